@@ -1,0 +1,592 @@
+"""Reference model of one 3964 / 3964R station: sans-IO, explicit time.
+
+Every public method takes ``now`` (seconds, any monotonic origin). The station never reads
+a clock, sleeps, or touches a device; its caller (a driver) feeds it what happened and
+drains what it wants to do:
+
+* inputs: :meth:`power_on`, :meth:`receive` (characters received intact),
+  :meth:`receive_invalid` (a character with a parity/framing error), :meth:`line_break`,
+  :meth:`request_send`, :meth:`set_buffer_free`, and :meth:`handle_timer` once
+  :meth:`next_deadline` has been reached;
+* outputs: :meth:`pop_output` (bytes with the time each starts on the line),
+  :meth:`next_deadline`, :meth:`pop_events` (STATUS events, deliveries, job results).
+
+The station includes its UART transmitter: bytes are scheduled one character time apart
+(the character time follows from baud rate and character frame), so the model knows which
+bytes are already on the line when the partner interrupts it. With ``baud_rate=None`` the
+character time is zero.
+
+Ordering rule: when an input and a deadline fall on the same instant, the input is handled
+first (a character that completed exactly at the deadline started before it). Drivers must
+therefore deliver the inputs of an instant before calling :meth:`handle_timer` for it.
+
+What the station does in each state is the transition table in :mod:`.table`; this module
+implements its actions (``_a_<name>``) and decisions (``_d_<name>``).
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+from functools import reduce
+from math import inf
+from operator import xor
+
+from . import events as ev
+from . import table as T
+from .codec import DLE, ETX, MAX_BLOCK, NAK, STX, stuff
+from .events import Delivered, Event, SendDone, SendFailed, Status
+from .params import T_BLOCK, T_NAKTIM, Params3964
+from .readings import READINGS, Readings
+
+_CLASS = [T.OTHER] * 256
+_CLASS[STX], _CLASS[DLE], _CLASS[ETX], _CLASS[NAK] = T.STX, T.DLE, T.ETX, T.NAK
+_END = bytes((DLE, ETX))
+_EPS = 1e-9
+
+
+class ModelError(RuntimeError):
+    """The station was driven in a way the model does not allow (a harness bug)."""
+
+
+@dataclass
+class Job:
+    """A send job: the payload and its counters (Fig. 2-10: W, X)."""
+
+    payload: bytes
+    w: int = 1          # transmission attempt number, including the first (Table 2-4)
+    x: int = 1          # setup attempt number within the current transmission attempt
+    first_error: int | None = None
+    stx_sent: int = 0   # STX characters sent for this job (for invariants and tests)
+
+
+class Station3964:
+    """One 3964 / 3964R endpoint. See the module docstring for the calling convention."""
+
+    def __init__(self, params: Params3964 | None = None, readings: Readings = READINGS,
+                 *, name: str = "station", trace: bool = False):
+        self.params = params or Params3964()
+        self.readings = readings
+        self.name = name
+        self.state = T.START_UP
+        self.now = -inf
+        p = self.params
+        self._char = p.char_time
+        self._grace = p.char_time if readings.timer_grace_one_character else 0.0
+        self._cdt = p.cdt
+        self._adt = p.adt
+        # timer: one at a time (the flowcharts never run two)
+        self._timer: str | None = None
+        self._timer_at = inf
+        self._timer_started = False
+        # transmitter
+        self._tx: deque[tuple[float, int]] = deque()
+        self._tx_free_at = -inf
+        self._popped_end = -inf
+        self._tx_done_at = inf
+        self._end_seq_at = inf
+        # user side
+        self._events: list[Event] = []
+        self._jobs: deque[bytes] = deque()
+        self.job: Job | None = None          # the job being sent
+        self.deferred: Job | None = None     # a job deferred by an initialization conflict
+        self.buffer_free = True
+        # receiver
+        self._buf = bytearray()
+        self._x = 0                          # running BCC of the block being received
+        self._overflow = False
+        self._noted: int | None = None       # first error noted in the current reception
+        self.w_r = 0                         # reception attempt number (Fig. 2-12 W)
+        self._rx_first_error: int | None = None
+        self._bcc_in = 0
+        self._nak_just_sent = False
+        self._cdt_timeout = False
+        self._in_end_sequence = False
+        self._dle_etx_done_at = inf
+        self._override: str | None = None
+        self.trace: list[tuple] | None = [] if trace else None
+
+    # ================================================================== public API
+    def power_on(self, now: float) -> None:
+        """Switch-on (Fig. 2-9): the station sends its start-up NAK and becomes idle."""
+        self._at(now, strict=True)
+        self._input(T.POWER_ON)
+
+    def receive(self, now: float, data: bytes | bytearray | int) -> None:
+        """Characters received intact, all completed at ``now``."""
+        self._at(now, strict=True)
+        if isinstance(data, int):
+            data = (data,)
+        cls = _CLASS
+        for b in data:
+            if self.state is T.RECEIVE and b != DLE and self.trace is None:
+                self._store(b)  # fast path of TABLE[RECEIVE][STX/ETX/NAK/OTHER] = store
+                continue
+            self._input(cls[b], b)
+
+    def receive_invalid(self, now: float, value: int = 0) -> None:
+        """A character with a parity, framing or overrun error (an "invalid character")."""
+        self._at(now, strict=True)
+        self._input(T.INVALID, value)
+
+    def line_break(self, now: float) -> None:
+        """A BREAK condition on the receive line (§10 item 5)."""
+        self._at(now, strict=True)
+        self._input(T.BREAK)
+
+    def request_send(self, now: float, payload: bytes) -> bool:
+        """Hand over a send job (P_SND_RK with REQ). Returns False, raising 16#1E41, when
+        the length is outside 1..1024; a 7-bit character frame cannot carry bytes > 7F."""
+        self._at(now, strict=True)
+        payload = bytes(payload)
+        if not 1 <= len(payload) <= MAX_BLOCK:
+            self._emit(Status(self.now, ev.LEN_ILLEGAL, "send", final=True))
+            self._emit(SendFailed(self.now, payload, ev.LEN_ILLEGAL, None))
+            return False
+        if self.params.data_bits == 7 and any(b > 0x7F for b in payload):
+            raise ValueError("a payload byte above 7F cannot be sent with 7 data bits")
+        self._jobs.append(payload)
+        self._input(T.SEND_REQUEST)
+        return True
+
+    def set_buffer_free(self, now: float, free: bool) -> None:
+        """The application frees (or fills) the receive buffer (Fig. 2-11)."""
+        self._at(now, strict=True)
+        self.buffer_free = free
+        if free and self.state is T.WAIT_BUFFER:
+            self._input(T.BUFFER_FREE)
+
+    def next_deadline(self) -> float | None:
+        """The earliest time at which the station wants :meth:`handle_timer` (a timer, the
+        end of a transmission, or the start of a byte to transmit); None when it waits
+        only for input."""
+        t = min(self._timer_at, self._tx_done_at)
+        if self._tx:
+            t = min(t, self._tx[0][0])
+        return None if t == inf else t
+
+    def handle_timer(self, now: float) -> None:
+        """Advance to ``now``, handling every deadline that has been reached."""
+        self._at(now, strict=False)
+
+    def pop_output(self, now: float | None = None) -> list[tuple[float, int]]:
+        """Bytes whose transmission has started by ``now`` (all scheduled bytes when
+        ``now`` is None), as (start time, byte) pairs, in order."""
+        out = []
+        tx = self._tx
+        limit = inf if now is None else now + _EPS
+        while tx and tx[0][0] <= limit:
+            item = tx.popleft()
+            out.append(item)
+        if out:
+            self._popped_end = out[-1][0] + self._char
+        return out
+
+    def pop_events(self) -> list[Event]:
+        out, self._events = self._events, []
+        return out
+
+    @property
+    def idle(self) -> bool:
+        """Idle with nothing to do: no job, nothing scheduled to transmit."""
+        return (self.state is T.IDLE and not self._tx and self.job is None
+                and self.deferred is None and not self._jobs)
+
+    @property
+    def pending_jobs(self) -> int:
+        return len(self._jobs) + (self.job is not None) + (self.deferred is not None)
+
+    # ================================================================== time
+    def _at(self, now: float, strict: bool) -> None:
+        """Move the clock to ``now`` and handle the deadlines before it (``strict``) or up
+        to and including it."""
+        if now < self.now - _EPS:
+            raise ModelError(f"{self.name}: time went backwards ({now} < {self.now})")
+        while True:
+            done_at, timer_at = self._tx_done_at, self._timer_at
+            is_done = done_at <= timer_at
+            t = done_at if is_done else timer_at
+            if t == inf:
+                break
+            if strict:
+                # Inputs at `now` go before deadlines at `now` (see the module docstring);
+                # only a zero-time transmission has ended by the instant it started.
+                due = t < now - _EPS or (is_done and self._char == 0 and t <= now + _EPS)
+            else:
+                due = t <= now + _EPS
+            if not due:
+                break
+            self.now = max(self.now, t)
+            if is_done:
+                self._tx_done_at = inf
+                self._input(T.TX_DONE)
+            else:
+                name, self._timer, self._timer_at = self._timer, None, inf
+                self._input(name)
+        self.now = max(self.now, now)
+
+    def _start_timer(self, name: str, duration: float, since: float | None = None) -> None:
+        since = self.now if since is None else since
+        grace = 0.0 if name is T.T_NAKTIM else self._grace
+        self._timer, self._timer_at = name, since + duration + grace
+        self._timer_started = True
+        if self.trace is not None:
+            self.trace.append((self.now, "timer", name, self._timer_at))
+
+    def _stop_timer(self) -> None:
+        self._timer, self._timer_at = None, inf
+
+    # ================================================================== transmitter
+    def _send(self, data: bytes) -> float:
+        """Schedule ``data`` on the line; return when its last byte has been sent."""
+        start = max(self.now, self._tx_free_at)  # A8: no guard time before any character
+        char = self._char
+        for b in data:
+            self._tx.append((start, b))
+            start += char
+        self._tx_free_at = start
+        return start
+
+    def _cancel_tx(self) -> None:
+        """Stop transmitting at once: bytes not yet started are dropped."""
+        tx = self._tx
+        while tx and tx[-1][0] > self.now + _EPS:
+            tx.pop()
+        self._tx_free_at = tx[-1][0] + self._char if tx else self._popped_end
+        self._tx_done_at = inf
+        self._end_seq_at = inf
+
+    # ================================================================== dispatch
+    def _input(self, inp: str, value: int = 0) -> None:
+        old = self.state
+        row = T.TABLE[old][inp]
+        if row.action is T.IMPOSSIBLE:
+            raise ModelError(f"{self.name}: input {inp} cannot occur in state {old}")
+        self._timer_started = False
+        self._override = None
+        getattr(self, "_a_" + row.action)(value)
+        target = self._override or row.target
+        while target in T.DECISION_TARGETS:
+            target = getattr(self, "_d_" + target.lower())()
+        new = old if target is T.SAME else target
+        if self.trace is not None:
+            self.trace.append((self.now, old, inp, row.action, new))
+        if new is not old and not self._timer_started:
+            self._stop_timer()
+        self.state = new
+        if new is T.IDLE and (self.deferred is not None or self._jobs):
+            self._input(T.SEND_REQUEST)
+
+    def _emit(self, event: Event) -> None:
+        self._events.append(event)
+
+    # ================================================================== start-up / idle
+    def _a_send_startup_nak(self, _v: int) -> None:
+        self._send(bytes((NAK,)))
+
+    def _a_ignore(self, _v: int) -> None:
+        pass
+
+    def _a_queue_job(self, _v: int) -> None:
+        pass  # request_send has queued it; it starts when the station is next idle
+
+    def _a_start_quiet_wait(self, _v: int) -> None:
+        self._start_timer(T.T_CDT, self._cdt)
+
+    def _a_restart_quiet_wait(self, _v: int) -> None:
+        if self.readings.a7_quiet_wait_retriggered or self._timer is None:
+            self._start_timer(T.T_CDT, self._cdt)
+        else:
+            self._timer_started = True  # keep the running wait
+
+    def _a_quiet_nak(self, _v: int) -> None:
+        self._send(bytes((NAK,)))
+        self._emit(Status(self.now, ev.RX_SETUP_ERROR, "receive"))
+
+    def _a_report_break(self, _v: int) -> None:
+        self._emit(Status(self.now, ev.LINE_BREAK, "receive"))
+
+    def _a_report_invalid_in_idle(self, _v: int) -> None:
+        self._emit(Status(self.now, ev.CHARACTER_ERROR, "receive"))
+
+    def _d_idle_char_error(self) -> str:
+        if self.readings.a13_nak_after_invalid_char_in_idle:
+            self._start_timer(T.T_CDT, self._cdt)
+            return T.IDLE_JUNK
+        return T.IDLE
+
+    # ================================================================== sender
+    def _a_start_job(self, _v: int) -> None:
+        if self.deferred is not None:
+            job, self.deferred = self.deferred, None
+            if self.readings.a21_conflict_counts_collided_stx:
+                job.x += 1
+                if job.x > self.params.setup_attempts:
+                    self.job = job
+                    self._override = T.SETUP_CHECK
+                    return
+        else:
+            job = Job(self._jobs.popleft())
+        self.job = job
+        self._send_stx()
+
+    def _send_stx(self) -> None:
+        self.job.stx_sent += 1
+        self._start_timer(T.T_ADT, self._adt, self._send(bytes((STX,))))
+
+    def _note_send_error(self, code: int) -> None:
+        job = self.job
+        if job.first_error is None:
+            job.first_error = code
+        if self.readings.a9_report_each_error:
+            self._emit(Status(self.now, code, "send"))
+
+    def _fail_job(self, code: int) -> None:
+        job = self.job
+        self._emit(Status(self.now, code, "send", final=True))
+        self._emit(SendFailed(self.now, job.payload, code, job.first_error))
+        self.job = None
+
+    def _a_setup_refused(self, _v: int) -> None:
+        self._note_send_error(ev.SETUP_REFUSED)
+        self.job.x += 1
+
+    def _a_setup_invalid_character(self, _v: int) -> None:
+        self._note_send_error(ev.CHARACTER_ERROR)
+        self.job.x += 1
+
+    def _a_setup_timeout(self, _v: int) -> None:
+        self._note_send_error(ev.SETUP_TIMEOUT)
+        self.job.x += 1
+
+    def _d_setup_check(self) -> str:
+        if self.job.x <= self.params.setup_attempts:
+            self._send_stx()
+            return T.WAIT_SETUP_ACK
+        self._send(bytes((NAK,)))
+        self._fail_job(ev.SETUP_ATTEMPTS_EXCEEDED)
+        return T.IDLE
+
+    def _a_initialization_conflict(self, _v: int) -> None:
+        if self.params.priority == "high":
+            if self.readings.a23_restart_adt_on_conflict_stx:
+                self._start_timer(T.T_ADT, self._adt)
+            else:
+                self._timer_started = True  # T_ADT keeps running
+            return
+        self._stop_timer()
+        self.deferred, self.job = self.job, None
+        self._a_begin_reception(0)
+
+    def _d_priority(self) -> str:
+        return T.WAIT_SETUP_ACK if self.params.priority == "high" else T.RECEIVE_ENTRY
+
+    def _a_setup_acknowledged(self, _v: int) -> None:
+        self._stop_timer()
+        stuffed = stuff(self.job.payload)
+        body = stuffed + _END
+        if self.params.has_bcc:
+            body += bytes((reduce(xor, stuffed, DLE ^ ETX),))
+        end = self._send(body)
+        n_end = 3 if self.params.has_bcc else 2
+        self._end_seq_at = end - n_end * self._char
+        self._tx_done_at = end
+        self._dle_etx_done_at = self._end_seq_at + 2 * self._char
+
+    def _a_send_refused(self, _v: int) -> None:
+        self._cancel_tx()
+        self._note_send_error(ev.SEND_INTERRUPTED)
+        self.job.w += 1
+
+    def _a_send_interrupted(self, _v: int) -> None:
+        self._cancel_tx()
+        self._note_send_error(ev.SEND_INTERRUPTED)
+        self._start_timer(T.T_CDT, self._cdt)
+
+    def _a_dle_during_send(self, _v: int) -> None:
+        self._in_end_sequence = (self.readings.a10_dle_in_end_sequence_too_early
+                                 and self.now >= self._end_seq_at - _EPS)
+        self._cancel_tx()
+
+    def _d_in_end_sequence(self) -> str:
+        if self._in_end_sequence:
+            self._note_send_error(ev.RELEASE_REFUSED)  # "DLE too early" (A10)
+            self.job.w += 1
+            return T.TX_CHECK
+        self._note_send_error(ev.SEND_INTERRUPTED)
+        self._start_timer(T.T_CDT, self._cdt)
+        return T.ABORT_QUIET
+
+    def _a_abort_nak(self, _v: int) -> None:
+        self._send(bytes((NAK,)))
+        self._nak_just_sent = True
+        self.job.w += 1
+
+    def _a_block_sent(self, _v: int) -> None:
+        since = self.now if self.readings.a12_release_adt_after_last_byte else self._dle_etx_done_at
+        self._start_timer(T.T_ADT, self._adt, since)
+
+    def _a_release_acknowledged(self, _v: int) -> None:
+        job, self.job = self.job, None
+        self._emit(SendDone(self.now, job.payload, job.w))
+
+    def _a_release_refused(self, _v: int) -> None:
+        self._note_send_error(ev.RELEASE_REFUSED)
+        self.job.w += 1
+
+    def _a_release_invalid_character(self, _v: int) -> None:
+        self._note_send_error(ev.CHARACTER_ERROR)
+        self.job.w += 1
+
+    def _a_release_timeout(self, _v: int) -> None:
+        self._note_send_error(ev.RELEASE_TIMEOUT)
+        self.job.w += 1
+
+    def _d_tx_check(self) -> str:
+        nak_sent, self._nak_just_sent = self._nak_just_sent, False
+        job = self.job
+        if job.w <= self.params.transmission_attempts:
+            if job.w == 2:
+                self._emit(Status(self.now, ev.FIRST_REPETITION, "send"))
+            if self.readings.a4_reset_setup_counter_per_attempt:
+                job.x = 1
+            self._send_stx()
+            return T.WAIT_SETUP_ACK
+        if not nak_sent or self.readings.a6_second_final_nak:
+            self._send(bytes((NAK,)))
+        self._fail_job(ev.TX_ATTEMPTS_EXCEEDED)
+        return T.IDLE
+
+    def _a_abort_job(self, _v: int) -> None:
+        self._cancel_tx()
+        self._fail_job(self.readings.a15_break_status_on_send)
+
+    # ================================================================== receiver
+    def _a_begin_reception(self, _v: int) -> None:
+        self.w_r = 1
+        self._rx_first_error = None
+        self._clear_reception()
+
+    def _clear_reception(self) -> None:
+        self._buf = bytearray()
+        self._x = 0
+        self._overflow = False
+        self._noted = None
+
+    def _d_receive_entry(self) -> str:
+        if self.buffer_free:
+            self._start_timer(T.T_CDT, self._cdt, self._send(bytes((DLE,))))
+            return T.RECEIVE
+        self._start_timer(T.T_NAKTIM, T_NAKTIM)
+        return T.WAIT_BUFFER
+
+    def _a_buffer_freed(self, _v: int) -> None:
+        self._start_timer(T.T_CDT, self._cdt, self._send(bytes((DLE,))))
+
+    def _a_no_buffer(self, _v: int) -> None:
+        self._emit(Status(self.now, ev.NO_RECEIVE_BUFFER, "receive"))
+        self._send(bytes((NAK,)))
+
+    def _a_setup_garbage(self, _v: int) -> None:
+        # A16: give up the setup; IDLE_JUNK sends the NAK and raises 16#0802.
+        self._start_timer(T.T_CDT, self._cdt)
+
+    def _note(self, code: int) -> None:
+        if self._noted is None:
+            self._noted = code
+
+    def _store(self, b: int) -> None:
+        if len(self._buf) < MAX_BLOCK:
+            self._buf.append(b)
+        elif not self._overflow:
+            self._overflow = True
+            self._note(ev.FRAME_TOO_LONG)
+        self._x ^= b
+        self._timer, self._timer_at = T.T_CDT, self.now + self._cdt + self._grace
+
+    def _a_store(self, v: int) -> None:
+        self._store(v)
+        self._timer_started = True
+
+    def _a_dle_received(self, _v: int) -> None:
+        self._x ^= DLE
+        self._start_timer(T.T_CDT, self._cdt)
+
+    def _a_store_doubled_dle(self, _v: int) -> None:
+        self._store(DLE)          # XORs the second DLE; the first was XORed on arrival
+        self._timer_started = True
+
+    def _a_dle_followed_by_other(self, v: int) -> None:
+        self._note(ev.RX_LOGICAL_ERROR)
+        self._x ^= v
+        self._start_timer(T.T_CDT, self._cdt)
+        if not self.readings.a11_deferred_nak_after_dle_other:
+            self._override = T.NAK_CHECK
+
+    def _a_note_invalid_character(self, _v: int) -> None:
+        self._note(ev.CHARACTER_ERROR)
+        self._start_timer(T.T_CDT, self._cdt)
+
+    def _a_character_timeout(self, _v: int) -> None:
+        self._note(ev.CDT_EXCEEDED)
+        self._cdt_timeout = True
+
+    def _a_end_of_text(self, _v: int) -> None:
+        self._x ^= ETX
+        if self.params.has_bcc:
+            self._start_timer(T.T_CDT, self._cdt)  # Fig. 2-12: wait for the BCC
+
+    def _d_after_etx(self) -> str:
+        return T.WAIT_BCC if self.params.has_bcc else T.EVALUATE
+
+    def _a_bcc_received(self, v: int) -> None:
+        self._bcc_in = v
+
+    def _d_bcc_check(self) -> str:
+        if self._bcc_in == self._x:
+            return T.EVALUATE
+        self._note(ev.BCC_ERROR)
+        return T.NAK_CHECK
+
+    def _a_bcc_invalid_character(self, _v: int) -> None:
+        self._note(ev.CHARACTER_ERROR)
+
+    def _d_evaluate(self) -> str:
+        if self._noted is None and (self._buf or self.readings.a17_accept_zero_length_block):
+            self._send(bytes((DLE,)))
+            self._emit(Delivered(self.now, bytes(self._buf)))
+            self._clear_reception()
+            return T.IDLE
+        if self._noted is None:
+            self._noted = ev.RX_LOGICAL_ERROR  # zero-length block refused (alternative of A17)
+        return T.NAK_CHECK
+
+    def _d_nak_check(self) -> str:
+        self._send(bytes((NAK,)))
+        code = self._noted
+        self._emit(Status(self.now, code, "receive"))
+        if self.w_r == 1:
+            self._rx_first_error = code
+            self._emit(Status(self.now, ev.EXPECT_REPETITION, "receive"))
+        timeout, self._cdt_timeout = self._cdt_timeout, False
+        self._clear_reception()
+        limit = self.params.transmission_attempts
+        if self.w_r >= limit or (timeout and not self.readings.a2_cdt_timeout_awaits_repetition):
+            self._emit(Status(self.now, self._rx_first_error, "receive", final=True))
+            return T.IDLE
+        self._start_timer(T.T_BLOCK, T_BLOCK, self._tx_free_at)
+        return T.WAIT_REPETITION
+
+    def _a_repetition_begins(self, _v: int) -> None:
+        self.w_r += 1
+        self._clear_reception()
+
+    def _a_partner_gave_up(self, _v: int) -> None:
+        self._emit(Status(self.now, self.readings.a19_wait_repetition_code, "receive", final=True))
+
+    def _a_repetition_timeout(self, _v: int) -> None:
+        self._emit(Status(self.now, self.readings.a19_wait_repetition_code, "receive", final=True))
+
+    def _a_abandon_reception(self, _v: int) -> None:
+        self._clear_reception()
+        self._emit(Status(self.now, ev.LINE_BREAK, "receive"))
