@@ -1,0 +1,36 @@
+"""The application above a station: what it does with delivered blocks.
+
+``echo`` submits every received (non-empty) block as a new send job, as the bundled
+reference implementation does; ``none`` only consumes them. Pure, like the station.
+"""
+
+from __future__ import annotations
+
+from .events import Delivered, Event
+from .station import Station3964
+
+APPS = ("echo", "none")
+
+
+class Host:
+    """A station plus its application; :meth:`drain` runs the application on the
+    station's events and returns them all."""
+
+    def __init__(self, station: Station3964, app: str = "echo"):
+        if app not in APPS:
+            raise ValueError(f"application {app!r}: allowed values are {', '.join(APPS)}")
+        self.station = station
+        self.app = app
+
+    def drain(self) -> list[Event]:
+        out: list[Event] = []
+        st = self.station
+        while True:
+            events = st.pop_events()
+            if not events:
+                return out
+            out.extend(events)
+            if self.app == "echo":
+                for e in events:
+                    if isinstance(e, Delivered) and e.payload:
+                        st.request_send(st.now, e.payload)

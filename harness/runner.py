@@ -1,0 +1,586 @@
+"""The runner: the one blocking driver. It plays the tester's side of a vector against an
+IUT behind a transport, with the timing the vector asks for, records everything on the
+line, and judges the result.
+
+All waiting happens here, through :meth:`Transport.read` with a deadline; the model never
+waits. With the ``sim:`` transport the same code runs in virtual time.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+from typing import Callable, Iterable
+
+from . import results as R
+from .model import Params3964, Station3964, codec
+from .model.events import Delivered, status_text
+from .profile import Profile
+from .scenario import Expr, Step, Vector, expand, timer_env
+from .transport.base import (BREAK, CHAR_ERROR, RESTART, STATUS, IUTDied, Transport,
+                             TransportError)
+
+# ------------------------------------------------------------------ tolerances
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """How far the IUT's timing may stray from a window, and how late the tester's own
+    stimuli may be before the case is void (a harness timing fault, retried)."""
+
+    early: float        # a reply may come this much before its window opens
+    late_abs: float     # ... and this much after it closes,
+    late_rel: float     # ... plus this fraction of the window's nominal upper bound
+    stimulus: float     # the tester's bytes may go out this late
+
+    def late(self, nominal: float) -> float:
+        return self.late_abs + self.late_rel * max(nominal, 0.0)
+
+
+VIRTUAL = Tolerance(early=1e-9, late_abs=1e-9, late_rel=0.0, stimulus=1e-6)
+
+
+def realtime_tolerance(params: Params3964, late_ms: float = 50.0) -> Tolerance:
+    """Tolerances for real processes on a loaded machine: one character time plus 1 ms
+    early (the IUT may time from when it read our byte, not from its stop bit); 50 ms
+    plus 25 % late; the tester's stimuli at most 15 % of the shortest timer late."""
+    char = params.char_time
+    return Tolerance(
+        early=char + 0.001,
+        late_abs=late_ms / 1000.0 + 2 * char,
+        late_rel=0.25,
+        stimulus=max(0.002, 0.15 * min(params.cdt, params.adt)),
+    )
+
+
+class TimingFault(RuntimeError):
+    """The harness could not keep the timing a stimulus needs (machine too loaded)."""
+
+
+class Flood(RuntimeError):
+    pass
+
+
+class StepFailed(Exception):
+    def __init__(self, div: R.Divergence, message: str, late_only: bool = False):
+        self.div, self.message, self.late_only = div, message, late_only
+        super().__init__(message)
+
+
+# ------------------------------------------------------------------ options
+
+
+@dataclass
+class RunOptions:
+    tolerance: Tolerance | None = None
+    late_ms: float = 50.0
+    startup_timeout: float = 2.0      # how long a freshly started IUT may take to say NAK
+    timing_retries: int = 2           # reruns of a case voided by a harness timing fault
+    confirm_late: bool = True         # rerun once a case that failed only by lateness
+    flood_limit: int = 20_000         # bytes from the IUT in one case before it counts as flooding
+    echo: bool = True                 # the IUT echoes received blocks (profile send_trigger)
+    check_status: bool = True         # compare reported STATUS events (profile status_from_stderr)
+    check_model_events: bool = False  # sim: also check deliveries and completed jobs
+    virtual: bool = False
+
+
+# ------------------------------------------------------------------ the case driver
+
+
+class CaseRun:
+    """Executes one vector once against an open transport."""
+
+    def __init__(self, vector: Vector, steps: tuple[Step, ...], tr: Transport,
+                 params: Params3964, tol: Tolerance, opts: RunOptions,
+                 tester_params: Params3964 | None = None):
+        self.v, self.steps, self.tr, self.p, self.tol, self.opts = vector, steps, tr, params, tol, opts
+        self.tp = tester_params or params
+        self.env = timer_env(params, opts.startup_timeout)
+        self.t0 = tr.now()
+        self.ref = self.t0
+        self.rx: list[tuple[float, int]] = []
+        self.pos = 0
+        self.log: list[dict] = []
+        self.grade = R.PASS
+        self.forced = 0.0
+        self.notes: list[str] = []
+        self.step_index = -1
+        self.sent_end = self.t0
+        self.partner_delivered: list[bytes] = []
+
+    # -- helpers -----------------------------------------------------------------------
+    def rel(self, t: float) -> float:
+        return round(t - self.t0, 6)
+
+    def ev(self, e: Expr) -> float:
+        return e.eval(self.env)
+
+    def _pump(self, deadline: float) -> None:
+        items = self.tr.read(deadline)
+        for t, b in items:
+            self.rx.append((t, b))
+            self.log.append({"t": self.rel(t), "dir": "iut", "kind": "byte", "byte": b, "step": self.step_index})
+        if len(self.rx) > self.opts.flood_limit:
+            raise Flood(f"the IUT sent more than {self.opts.flood_limit} bytes in one case")
+
+    def wait_until(self, t: float) -> None:
+        while self.tr.now() < t:
+            self._pump(t)
+
+    def next_byte(self, deadline: float) -> tuple[float, int] | None:
+        while self.pos >= len(self.rx):
+            if self.tr.now() >= deadline:
+                return None
+            self._pump(deadline)
+        return self.rx[self.pos]
+
+    def fail(self, expected: str, observed: str, t: float, window=None, late_only=False):
+        div = R.Divergence(self.step_index, self.rel(t), expected, observed,
+                           None if window is None else (self.rel(window[0]), self.rel(window[1])))
+        raise StepFailed(div, f"step {self.step_index + 1}: expected {expected}; {observed}", late_only)
+
+    def mark(self, kind: str, **kw) -> None:
+        self.log.append({"kind": kind, "dir": "note", "step": self.step_index, **kw})
+
+    # -- steps -------------------------------------------------------------------------
+    def run_steps(self) -> None:
+        for i, step in enumerate(self.steps):
+            self.step_index = i
+            getattr(self, "_" + step.kind)(step)
+
+    def _send_bytes(self, step: Step, data: bytes, writer: Callable[[int], float], kind: str) -> None:
+        at, gap = self.ev(step.at), self.ev(step.gap)
+        char = self.tp.char_time
+        start = self.ref + at
+        t = start
+        for k, b in enumerate(data):
+            target = start + k * (char + gap)
+            self.wait_until(target)
+            t = writer(b)
+            self.log.append({"t": self.rel(t), "dir": "tester", "kind": kind, "byte": b, "step": self.step_index})
+            late = t - target
+            if late > self.tol.stimulus:
+                raise TimingFault(f"step {self.step_index + 1}: the tester's byte {k + 1} went out "
+                                  f"{late * 1000:.1f} ms late (allowed {self.tol.stimulus * 1000:.1f} ms)")
+        self.ref = self.sent_end = t + char
+        self.forced += at + len(data) * char + max(0, len(data) - 1) * gap
+
+    def _send(self, step: Step) -> None:
+        self._send_bytes(step, step.data, lambda b: self.tr.write(bytes([b])), "byte")
+
+    def _send_error(self, step: Step) -> None:
+        self._send_bytes(step, step.data, self.tr.send_char_error, "char_error")
+
+    def _break(self, step: Step) -> None:
+        at, dur = self.ev(step.at), self.ev(step.duration)
+        target = self.ref + at
+        self.wait_until(target)
+        t = self.tr.send_break(dur)
+        if t - target > self.tol.stimulus:
+            raise TimingFault(f"step {self.step_index + 1}: BREAK went out {1000 * (t - target):.1f} ms late")
+        self.log.append({"t": self.rel(t), "dir": "tester", "kind": "break", "duration": dur, "step": self.step_index})
+        self.ref = self.sent_end = t + dur
+        self.wait_until(self.ref)
+        self.forced += at + dur
+
+    def _wait(self, step: Step) -> None:
+        d = self.ev(step.duration)
+        self.ref += d
+        self.wait_until(self.ref)
+        self.forced += d
+
+    def _silence(self, step: Step) -> None:
+        d = self.ev(step.duration)
+        end = self.ref + d
+        self.mark("window", t0=self.rel(self.ref), t1=self.rel(end), label=f"silence {step.duration}")
+        self.wait_until(end)
+        if self.pos < len(self.rx) and self.rx[self.pos][0] <= end:
+            t, b = self.rx[self.pos]
+            self.fail(f"silence for {step.duration}", f"received {b:02X} at {1000 * (t - self.ref):.1f} ms",
+                      t, (self.ref, end))
+        self.ref = end
+        self.forced += d
+
+    def _expect(self, step: Step) -> None:
+        if step.since == "sent":
+            self.ref = self.sent_end
+        lo_nom, hi_nom = self.ev(step.after), self.ev(step.within)
+        lo = self.ref + lo_nom - self.tol.early
+        hi = self.ref + hi_nom + self.tol.late(hi_nom)
+        what = codec.hexstr(step.data)
+        if step.alternatives:
+            what += " (or " + " or ".join(codec.hexstr(a) for a in step.alternatives) + ")"
+        label = f"expect {what} in [{step.after}, {step.within}]"
+        self.mark("window", t0=self.rel(self.ref + lo_nom), t1=self.rel(self.ref + hi_nom), label=label)
+        first = self.next_byte(hi)
+        if first is None or first[0] > hi:
+            if step.optional or step.partial:
+                if step.optional:
+                    self._grade(step.absent_grade, f"step {self.step_index + 1}: optional {what} not sent")
+                return
+            if first is None:
+                self.fail(what + f" within {step.within}", "nothing received", hi, (self.ref + lo_nom, self.ref + hi_nom))
+            t, b = first
+            self.fail(what + f" within {step.within}",
+                      f"{b:02X} came {1000 * (t - self.ref):.1f} ms after the reference, too late",
+                      t, (self.ref + lo_nom, self.ref + hi_nom), late_only=(b == step.data[0]))
+        t, b = first
+        cands = [step.data] + list(step.alternatives)
+        live = [c for c in cands if c[0] == b]
+        if not live:
+            if step.partial:
+                return
+            if step.optional:
+                self._grade(step.absent_grade, f"step {self.step_index + 1}: optional {what} not sent")
+                return
+            self.fail(what, f"received {b:02X}", t, (self.ref + lo_nom, self.ref + hi_nom))
+        if t < lo:
+            self.fail(f"{what} no earlier than {step.after}",
+                      f"{b:02X} came {1000 * (t - self.ref):.1f} ms after the reference, too early",
+                      t, (self.ref + lo_nom, self.ref + hi_nom))
+        got = bytearray([b])
+        self.pos += 1
+        last_t = t
+        gap_nom = self.ev(step.max_gap)
+        gap_lim = gap_nom + self.tol.late(gap_nom)
+        while True:
+            done = [c for c in live if len(c) == len(got)]
+            longer = [c for c in live if len(c) > len(got)]
+            if not longer:
+                break
+            nxt = self.next_byte(last_t + gap_lim)
+            if nxt is None or nxt[0] > last_t + gap_lim:
+                if done or step.partial:
+                    break
+                self.fail(f"{what} with gaps of at most {step.max_gap}",
+                          f"got {codec.hexstr(got)}, then nothing for {1000 * gap_lim:.0f} ms",
+                          last_t + gap_lim, late_only=nxt is not None)
+            nt, nb = nxt
+            still = [c for c in longer if c[len(got)] == nb]
+            if not still:
+                if done or step.partial:
+                    break
+                self.fail(what, f"byte {len(got) + 1} is {nb:02X} (after {codec.hexstr(got)})", nt)
+            if step.partial and nt > hi:
+                self.fail(f"the IUT to stop sending within {step.within}",
+                          f"it still sent {nb:02X} {1000 * (nt - self.ref):.1f} ms after the reference", nt,
+                          (self.ref, self.ref + hi_nom))
+            live = still
+            got.append(nb)
+            self.pos += 1
+            last_t = nt
+        matched = bytes(got)
+        if matched != step.data and not step.partial:
+            if matched in step.alternatives:
+                self._grade(step.alt_grade, f"step {self.step_index + 1}: the IUT sent {codec.hexstr(matched)}")
+        self.ref = last_t
+        self.forced += max(lo_nom, 0.0) + len(matched) * self.p.char_time
+
+    def _grade(self, grade: str, why: str) -> None:
+        if grade != R.PASS:
+            self.notes.append(f"{grade}: {why}")
+        self.grade = R.worse_grade(self.grade, grade)
+
+    def _prime(self, step: Step) -> None:  # pragma: no cover - expanded before running
+        raise AssertionError("prime steps are expanded before the run")
+
+    # -- before and after the steps ----------------------------------------------------
+    def prologue(self, state: "RunnerState") -> None:
+        """Wait for a freshly started IUT's start-up NAK (bounded), so the steps start with
+        the IUT idle; on a persistent IUT, wait for the line to be quiet."""
+        if self.v.start == "power-on":
+            return
+        if RESTART in self.tr.capabilities:
+            limit = self.opts.startup_timeout if state.startup_nak_seen is not False else 0.25
+            first = self.next_byte(self.tr.now() + limit)
+            if first is not None and first[1] == codec.NAK:
+                self.pos += 1
+                state.startup_nak_seen = True
+            elif first is None and state.startup_nak_seen is None:
+                state.startup_nak_seen = False
+            self.ref = max(self.tr.now(), self.rx[self.pos - 1][0] if self.pos else self.tr.now())
+        else:
+            quiet = max(self.p.cdt, self.p.adt) + self.tol.late(0)
+            end = self.tr.now() + 10 * quiet + 5.0
+            last = self.tr.now()
+            while self.tr.now() < min(last + quiet, end):
+                n = len(self.rx)
+                self._pump(min(last + quiet, end))
+                if len(self.rx) > n:
+                    last = self.rx[-1][0]
+            self.pos = len(self.rx)
+            self.ref = self.tr.now()
+        self.t_steps = self.ref
+        self.mark("start", t=self.rel(self.ref))
+
+    def epilogue(self) -> None:
+        """After the steps: an echo IUT sends back the blocks the vector names; the tester
+        receives them as a conforming partner would. Then the line must stay quiet."""
+        self.step_index = len(self.steps)
+        echo = list(self.v.expected.echo_after) if self.opts.echo else []
+        if echo:
+            self._receive_echoes(echo)
+        quiet = max(self.p.cdt, self.p.adt) + self.p.char_time * 4
+        end = self.ref + quiet
+        self.mark("window", t0=self.rel(self.ref), t1=self.rel(end), label="no further bytes")
+        self.wait_until(end)
+        if self.pos < len(self.rx):
+            t, b = self.rx[self.pos]
+            rest = codec.hexstr(bytes(x[1] for x in self.rx[self.pos:self.pos + 16]))
+            self.fail("nothing more from the IUT" + (" after its echo" if echo else ""),
+                      f"it sent {rest}", t, (self.ref, end))
+        self.ref = end
+
+    def _receive_echoes(self, echo: list[bytes]) -> None:
+        params = self.tp.with_(priority="high" if self.p.priority == "low" else "low")
+        blk = max(len(codec.frame(e, self.p.procedure)) for e in echo) * self.p.char_time
+        limit = self.tr.now() + len(echo) * (self.p.setup_attempts * (self.p.adt + blk) + 1.0) + 2.0
+        got = self._play_partner(params, limit, want=len(echo),
+                                 label="echo: the tester receives as a conforming partner")
+        for i, (want, have) in enumerate(zip(echo, got)):
+            if want != have:
+                self.fail(f"echo {i + 1}: {codec.hexstr(want)}", f"the IUT sent back {codec.hexstr(have)}", self.ref)
+        self.forced += sum(len(codec.frame(e, self.p.procedure)) + 2 for e in echo) * self.p.char_time
+
+    def _partner(self, step: Step) -> None:
+        params = self.tp
+        if self.v.tester_params is None:
+            params = params.with_(priority="high" if self.p.priority == "low" else "low")
+        limit = self.ref + self.ev(step.duration)
+        self.partner_delivered += self._play_partner(params, limit, want=None,
+                                                     label="the tester plays a conforming partner")
+
+    def _play_partner(self, params: Params3964, limit: float, want: int | None, label: str) -> list[bytes]:
+        """Let a model station in the tester's seat answer the IUT in real (or virtual) time
+        until it has received ``want`` blocks (None: until both sides are quiet), or until
+        ``limit``. Returns the blocks it received."""
+        partner = Station3964(params, name="tester")
+        start = min(self.rx[self.pos][0] if self.pos < len(self.rx) else self.ref, self.ref)
+        partner.power_on(start)
+        partner.pop_output()          # it is already running: no start-up NAK here
+        quiet = max(params.cdt, params.adt) + 4 * params.char_time
+        got: list[bytes] = []
+        last = self.tr.now()
+        self.mark("window", t0=self.rel(self.ref), t1=self.rel(limit), label=label)
+        while True:
+            while self.pos < len(self.rx):
+                t, b = self.rx[self.pos]
+                partner.receive(max(t, partner.now), b)
+                self.pos += 1
+                last = max(last, t)
+            now = self.tr.now()
+            d = partner.next_deadline()
+            if d is not None and d <= now:
+                partner.handle_timer(now)
+            for _, b in partner.pop_output(now):
+                w = self.tr.write(bytes([b]))
+                last = w
+                self.log.append({"t": self.rel(w), "dir": "tester", "kind": "byte", "byte": b, "step": self.step_index})
+            for e in partner.pop_events():
+                if isinstance(e, Delivered):
+                    got.append(e.payload)
+            if partner.idle and partner.next_deadline() is None:
+                if want is not None and len(got) >= want:
+                    break
+                if want is None and now - last >= quiet:
+                    break
+            if now >= limit:
+                if want is not None:
+                    self.fail(f"{want} block(s) from the IUT",
+                              f"received {len(got)} intact block(s) before the time limit", now)
+                break
+            wake = min(limit, last + quiet)
+            d = partner.next_deadline()
+            if d is not None:
+                wake = min(wake, d)
+            self._pump(max(wake, now))
+        self.ref = max(self.ref, min(self.tr.now(), last))
+        return got
+
+
+@dataclass
+class RunnerState:
+    """What the runner learns across cases of one run."""
+
+    startup_nak_seen: bool | None = None
+
+
+# ------------------------------------------------------------------ the runner
+
+
+TransportFactory = Callable[[Vector, Params3964], Transport]
+
+
+class Runner:
+    def __init__(self, factory: TransportFactory, profile: Profile | None = None,
+                 options: RunOptions | None = None):
+        self.factory = factory
+        self.profile = profile
+        self.opts = options or RunOptions()
+        self.state = RunnerState()
+
+    # -- applicability -------------------------------------------------------------
+    def effective_params(self, v: Vector) -> Params3964:
+        """The vector's parameters, with the profile's where the vector does not bind them."""
+        if self.profile is None:
+            return v.params
+        p = self.profile.params
+        fixed = {name: getattr(v.params, name) for name in v.binds}
+        return p.with_(**fixed) if fixed else p
+
+    def unsupported_reason(self, v: Vector, caps: frozenset[str]) -> str | None:
+        if self.profile is not None:
+            for name in v.binds:
+                want, have = getattr(v.params, name), getattr(self.profile.params, name)
+                if want != have:
+                    return f"the vector is for {name} = {want}; the IUT profile has {have}"
+            if "echo" in v.needs and not self.profile.echo:
+                return "needs an IUT that sends back what it receives (profile send_trigger = \"none\")"
+            if "line_conditions" in v.needs and self.profile.line_conditions == "none" and not (
+                    {BREAK, CHAR_ERROR} <= caps and "native_line_conditions" in caps):
+                return "needs BREAK / character errors; the profile says the IUT reads no line conditions"
+        if "line_conditions" in v.needs:
+            kinds = {s.kind for s in v.steps}
+            if "break" in kinds and BREAK not in caps:
+                return "needs BREAK, which this transport cannot carry"
+            if "send_error" in kinds and CHAR_ERROR not in caps:
+                return "needs characters with parity/framing errors, which this transport cannot carry"
+        if "restart" in v.needs and RESTART not in caps:
+            return "needs to see the IUT start up; this transport does not start the IUT"
+        if "buffer_control" in v.needs and "buffer_control" not in caps:
+            return "needs the IUT's receive buffer to be full, which cannot be arranged through this transport"
+        return None
+
+    # -- one case ------------------------------------------------------------------
+    def run_case(self, v: Vector) -> R.CaseResult:
+        res = R.CaseResult(id=v.id, title=v.title, reference=v.reference, rule=v.rule, group=v.group,
+                           iut_role=v.iut_role, readings=list(v.readings), source=v.source)
+        res.expected_status = v.expected.iut_status.describe()
+        res.expected_status_codes = [sorted(f"16#{c:04X}" for c in g) for g in v.expected.iut_status.required]
+        res.tester_status = v.expected.tester_status.describe()
+        params = self.effective_params(v)
+        res.params = params.to_dict()
+        steps = expand(replace(v, params=params))
+        res.steps = [{"kind": s.kind, "data": codec.hexstr(s.data), **s.to_toml()} for s in steps]
+        wall0 = time.monotonic()
+        try:
+            tr = self.factory(v, params)
+        except TransportError as exc:
+            res.verdict, res.message = R.ERROR, str(exc)
+            return res
+        reason = self.unsupported_reason(v, tr.capabilities)
+        if reason:
+            res.verdict, res.message = R.UNSUPPORTED, reason
+            return res
+        attempts = 0
+        confirmed = False
+        while True:
+            attempts += 1
+            outcome = self._attempt(v, steps, params, res)
+            if outcome == "timing" and attempts <= self.opts.timing_retries:
+                res.notes.append(f"attempt {attempts} voided: {res.message}")
+                continue
+            if outcome == "late" and self.opts.confirm_late and not confirmed:
+                confirmed = True
+                res.notes.append(f"attempt {attempts} failed by lateness only ({res.message}); run again to confirm")
+                continue
+            break
+        res.attempts = attempts
+        res.duration = round(time.monotonic() - wall0, 4)
+        xf = (self.profile.expected_failures if self.profile else {}).get(v.id)
+        if xf is not None:
+            if res.verdict == R.FAIL:
+                res.verdict, res.message = R.XFAIL, f"expected failure ({xf}): {res.message}"
+            elif res.verdict in (R.PASS, R.NON_STRICT, R.INFORMATIONAL):
+                res.verdict, res.message = R.XPASS, f"listed as an expected failure ({xf}) but passed"
+        return res
+
+    def _attempt(self, v: Vector, steps, params: Params3964, res: R.CaseResult) -> str:
+        """Run once; fill ``res``; return "ok", "timing" (voided) or "late" (failed by
+        lateness only)."""
+        tr = self.factory(v, params)
+        tol = self.opts.tolerance or (VIRTUAL if tr.virtual else realtime_tolerance(params, self.opts.late_ms))
+        tester = v.tester_params.with_(cdt_ms=params.cdt_ms, adt_ms=params.adt_ms) if v.tester_params else None
+        outcome = "ok"
+        run: CaseRun | None = None
+        info = None
+        res.divergence = None
+        try:
+            tr.open()
+            run = CaseRun(v, steps, tr, params, tol, self.opts, tester)
+            run.prologue(self.state)
+            run.run_steps()
+            run.epilogue()
+            res.verdict, res.message = run.grade, "; ".join(run.notes)
+        except StepFailed as exc:
+            res.verdict, res.message, res.divergence = R.FAIL, exc.message, exc.div
+            outcome = "late" if exc.late_only else "ok"
+        except TimingFault as exc:
+            res.verdict, res.message = R.ERROR, f"harness timing fault: {exc}"
+            outcome = "timing"
+        except Flood as exc:
+            res.verdict, res.message = R.FAIL, str(exc)
+        except IUTDied as exc:
+            res.verdict, res.message = R.FAIL, f"{exc} during step {run.step_index + 1 if run else 0}"
+            res.stderr_tail = exc.stderr_tail
+        except TransportError as exc:
+            res.verdict, res.message = R.ERROR, f"transport: {exc}"
+        finally:
+            try:
+                info = tr.close()
+            except Exception as exc:  # never lose the result because closing failed
+                res.notes.append(f"closing the transport failed: {exc}")
+        if info is not None:
+            if info.stderr:
+                res.stderr_tail = info.stderr[-2000:]
+            res.notes.extend(info.notes)
+        if run is not None:
+            res.transcript = run.log
+            res.forced_wait = round(run.forced, 6)
+            res.case_time = round(tr.now() - run.t0, 6) if tr.virtual else 0.0
+            if outcome == "ok" and res.verdict not in (R.ERROR,):
+                self._judge_events(v, tr, res, run)
+        return outcome
+
+    def _judge_events(self, v: Vector, tr: Transport, res: R.CaseResult, run: CaseRun) -> None:
+        if STATUS in tr.capabilities and self.opts.check_status:
+            reports = getattr(tr, "all_status", None)
+            codes = [c for _, c in (reports() if reports else tr.status_reports())]
+            res.observed_status = [status_text(c) for c in codes]
+            res.status_checked = True
+            problems = v.expected.iut_status.judge(codes)
+            if problems and res.verdict != R.FAIL:
+                res.verdict = R.FAIL
+                res.message = "STATUS: " + "; ".join(problems) + (f" (reported: {', '.join(res.observed_status) or 'none'})")
+        if self.opts.check_model_events and hasattr(tr, "delivered") and res.verdict != R.FAIL:
+            want = list(v.expected.delivered)
+            have = tr.delivered()
+            if have != want:
+                res.verdict = R.FAIL
+                res.message = ("delivered " + (", ".join(codec.hexstr(x) for x in have) or "nothing")
+                               + "; the vector says " + (", ".join(codec.hexstr(x) for x in want) or "nothing"))
+            elif v.expected.sent and tr.sent()[: len(v.expected.sent)] != list(v.expected.sent):
+                res.verdict = R.FAIL
+                res.message = "completed send jobs differ from the vector's 'sent'"
+
+    # -- a whole run -----------------------------------------------------------------
+    def run(self, vectors: Iterable[Vector], result: R.RunResult,
+            progress: Callable[[int, int, R.CaseResult], None] | None = None) -> R.RunResult:
+        vs = list(vectors)
+        t0 = time.monotonic()
+        try:
+            for i, v in enumerate(vs):
+                c = self.run_case(v)
+                result.cases.append(c)
+                if progress:
+                    progress(i + 1, len(vs), c)
+        except KeyboardInterrupt:
+            result.interrupted = True
+            done = {c.id for c in result.cases}
+            for v in vs:
+                if v.id not in done:
+                    result.cases.append(R.CaseResult(v.id, v.title, v.reference, v.rule, v.group, v.iut_role,
+                                                     verdict=R.NOT_RUN, message="run interrupted"))
+        finally:
+            result.wall_time = round(time.monotonic() - t0, 3)
+        return result

@@ -1,0 +1,649 @@
+"""Vectors: timed two-party transcripts, their schema, loading and writing.
+
+A vector file (TOML, one case per file) says who the IUT is, which parameters apply, what
+the tester does and what the IUT must do, step by step, with time windows written in terms
+of the timers (``CDT``, ``ADT``...) so that one vector serves every timer setting. The
+schema is documented in ``vectors/README.md``; :func:`load_vector` reports a broken file
+with its path, the field and what is wrong.
+"""
+
+from __future__ import annotations
+
+import ast
+import hashlib
+import re
+import tomllib
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any, Iterable
+
+from .model import codec
+from .model.params import T_BLOCK, T_NAKTIM, ParameterError, Params3964
+
+# ------------------------------------------------------------------ time expressions
+#: Names a time expression may use. CHAR is one character time of the profile's frame;
+#: STARTUP is how long the harness waits for a freshly started IUT (set by the runner).
+TIME_NAMES = ("CDT", "ADT", "CHAR", "NAKTIM", "BLOCK", "STARTUP")
+
+_UNIT = re.compile(r"(?<![\w.])(\d+(?:\.\d+)?)\s*(ms|s)\b")
+
+
+class ExprError(ValueError):
+    pass
+
+
+@dataclass(frozen=True)
+class Expr:
+    """A duration such as ``"CDT + 2*CHAR"``, ``"0.8*ADT"`` or ``"150ms"``. Bare numbers
+    are factors; a constant duration needs a unit (``ms`` or ``s``)."""
+
+    text: str
+
+    def __post_init__(self) -> None:
+        self._tree()  # validate now
+
+    def _tree(self) -> ast.AST:
+        src = _UNIT.sub(lambda m: f"_{m.group(2)}({m.group(1)})", self.text)
+        try:
+            tree = ast.parse(src, mode="eval").body
+        except SyntaxError:
+            raise ExprError(f"{self.text!r} is not an arithmetic expression") from None
+        _dimension(tree, self.text)
+        return tree
+
+    def eval(self, env: dict[str, float]) -> float:
+        return _eval(self._tree(), env)
+
+    def __str__(self) -> str:
+        return self.text
+
+
+def _dimension(node: ast.AST, text: str) -> bool:
+    """Check the expression and return True when it is a duration (False: a factor)."""
+    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool):
+        return False
+    if isinstance(node, ast.Name):
+        if node.id not in TIME_NAMES:
+            raise ExprError(f"{text!r}: unknown name {node.id!r} (allowed: {', '.join(TIME_NAMES)})")
+        return True
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in ("_ms", "_s"):
+        return True
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+        return _dimension(node.operand, text)
+    if isinstance(node, ast.BinOp):
+        left, right = _dimension(node.left, text), _dimension(node.right, text)
+        if isinstance(node.op, (ast.Add, ast.Sub)):
+            if left != right:
+                raise ExprError(f"{text!r}: adds a duration and a bare number (write 5ms, not 5)")
+            return left
+        if isinstance(node.op, ast.Mult):
+            if left and right:
+                raise ExprError(f"{text!r}: multiplies two durations")
+            return left or right
+        if isinstance(node.op, ast.Div):
+            if right:
+                raise ExprError(f"{text!r}: divides by a duration")
+            return left
+    raise ExprError(f"{text!r}: only + - * /, numbers, units ms/s and {', '.join(TIME_NAMES)} are allowed")
+
+
+def _eval(node: ast.AST, env: dict[str, float]) -> float:
+    if isinstance(node, ast.Constant):
+        return float(node.value)
+    if isinstance(node, ast.Name):
+        return env[node.id]
+    if isinstance(node, ast.Call):
+        v = float(node.args[0].value)
+        return v / 1000.0 if node.func.id == "_ms" else v
+    if isinstance(node, ast.UnaryOp):
+        v = _eval(node.operand, env)
+        return -v if isinstance(node.op, ast.USub) else v
+    a, b = _eval(node.left, env), _eval(node.right, env)
+    op = node.op
+    return a + b if isinstance(op, ast.Add) else a - b if isinstance(op, ast.Sub) else a * b if isinstance(op, ast.Mult) else a / b
+
+
+def timer_env(params: Params3964, startup: float = 0.0) -> dict[str, float]:
+    return {"CDT": params.cdt, "ADT": params.adt, "CHAR": params.char_time,
+            "NAKTIM": T_NAKTIM, "BLOCK": T_BLOCK, "STARTUP": startup}
+
+
+ZERO = Expr("0")
+
+# ------------------------------------------------------------------ steps
+STEP_KINDS = ("send", "send_error", "break", "wait", "expect", "silence", "prime", "partner")
+SINCE = ("previous", "sent")
+GRADES = ("pass", "non-strict", "informational")
+_STEP_KEYS = {
+    "send": {"at", "gap", "note"},
+    "send_error": {"at", "note"},
+    "break": {"at", "note"},
+    "wait": {"note"},
+    "silence": {"note"},
+    "prime": {"note"},
+    "partner": {"note"},
+    "expect": {"after", "within", "max_gap", "partial", "optional", "absent_grade", "or",
+               "or_grade", "since", "note"},
+}
+
+
+@dataclass(frozen=True)
+class Step:
+    """One step of a transcript.
+
+    * ``send``: the tester sends ``data`` (``at``: delay before the first byte after the
+      reference point; ``gap``: pause between characters on top of the character time).
+    * ``send_error``: each byte of ``data`` arrives at the IUT with a parity/framing error.
+    * ``break``: the tester holds the line in the space state for ``duration``.
+    * ``wait``: the tester does nothing for ``duration``; what arrives is kept for later.
+    * ``expect``: the IUT sends ``data``; its first byte arrives in [``after``, ``within``]
+      after the reference point and each further byte within ``max_gap`` of the previous
+      one. ``partial``: the IUT may stop anywhere in ``data`` (it was interrupted);
+      ``optional``: it may send nothing (graded ``absent_grade``); ``alternatives``: other
+      byte strings accepted in the same window (graded ``alt_grade``).
+    * ``silence``: the IUT sends nothing for ``duration``.
+    * ``prime``: the tester delivers the payload ``data`` as a conforming sender would
+      (STX, DLE, block, DLE); expanded into send/expect steps by :func:`expand`.
+    * ``partner``: for at most ``duration``, the tester plays a conforming station with the
+      vector's ``tester_params``, answering whatever the IUT sends, until both are idle and
+      the line is quiet (used where the exact bytes depend on timing, e.g. a configuration
+      mismatch).
+
+    The reference point of a step is the end of the previous one: after the last byte sent,
+    the last byte received, or the end of a wait, silence or break. An expect step with
+    ``since = "sent"`` measures from the end of the tester's last byte instead.
+    """
+
+    kind: str
+    data: bytes = b""
+    at: Expr = ZERO
+    gap: Expr = ZERO
+    duration: Expr = ZERO
+    after: Expr = ZERO
+    within: Expr = ZERO
+    max_gap: Expr = Expr("CDT")
+    partial: bool = False
+    optional: bool = False
+    absent_grade: str = "pass"
+    alternatives: tuple[bytes, ...] = ()
+    alt_grade: str = "pass"
+    since: str = "previous"
+    note: str = ""
+
+    def to_toml(self) -> dict[str, Any]:
+        d: dict[str, Any] = {}
+        if self.kind in ("send", "send_error", "expect", "prime"):
+            d[self.kind] = vector_hex(self.data)
+        else:
+            d[self.kind] = str(self.duration)
+        if self.kind in ("send", "send_error", "break") and self.at != ZERO:
+            d["at"] = str(self.at)
+        if self.kind == "send" and self.gap != ZERO:
+            d["gap"] = str(self.gap)
+        if self.kind == "expect":
+            if self.since != "previous":
+                d["since"] = self.since
+            if self.after != ZERO:
+                d["after"] = str(self.after)
+            d["within"] = str(self.within)
+            if self.max_gap != Expr("CDT"):
+                d["max_gap"] = str(self.max_gap)
+            if self.partial:
+                d["partial"] = True
+            if self.optional:
+                d["optional"] = True
+                if self.absent_grade != "pass":
+                    d["absent_grade"] = self.absent_grade
+            if self.alternatives:
+                d["or"] = [vector_hex(a) for a in self.alternatives]
+                if self.alt_grade != "pass":
+                    d["or_grade"] = self.alt_grade
+        if self.note:
+            d["note"] = self.note
+        return d
+
+
+# ------------------------------------------------------------------ vectors
+IUT_ROLES = ("receiver", "sender", "both", "idle")
+STARTS = ("idle", "power-on")
+REQUIREMENTS = ("echo", "line_conditions", "buffer_control", "restart")
+GROUPS = ("start-up", "idle", "receive", "send", "release", "repetition", "conflict",
+          "break", "character-error", "timing", "regression")
+
+
+@dataclass(frozen=True)
+class StatusSpec:
+    """Expected STATUS events: each entry of ``required`` is a set of alternatives of which
+    at least one must be raised; anything raised must be in ``allowed``."""
+
+    required: tuple[frozenset[int], ...] = ()
+    optional: frozenset[int] = frozenset()
+
+    @property
+    def allowed(self) -> frozenset[int]:
+        out = set(self.optional)
+        for group in self.required:
+            out |= group
+        return frozenset(out)
+
+    def judge(self, observed: Iterable[int]) -> list[str]:
+        """Problems with ``observed`` (empty: acceptable)."""
+        seen = list(observed)
+        problems = []
+        for group in self.required:
+            if not group & set(seen):
+                problems.append("missing " + " or ".join(f"16#{c:04X}" for c in sorted(group)))
+        extra = sorted({c for c in seen if c not in self.allowed})
+        if extra:
+            problems.append("unexpected " + ", ".join(f"16#{c:04X}" for c in extra))
+        return problems
+
+    def to_toml(self) -> list[str]:
+        return ["|".join(f"16#{c:04X}" for c in sorted(g)) for g in self.required]
+
+    def describe(self) -> str:
+        req = self.to_toml()
+        s = ", ".join(req) if req else "none"
+        if self.optional:
+            s += " (may also raise " + ", ".join(f"16#{c:04X}" for c in sorted(self.optional)) + ")"
+        return s
+
+
+@dataclass(frozen=True)
+class Expected:
+    iut_status: StatusSpec = StatusSpec()
+    tester_status: StatusSpec = StatusSpec()
+    delivered: tuple[bytes, ...] = ()   # blocks the IUT delivers to its application, in order
+    sent: tuple[bytes, ...] = ()        # blocks the IUT's send jobs complete (DONE), in order
+    echo_after: tuple[bytes, ...] = ()  # blocks an echo IUT sends back after the steps
+
+
+@dataclass(frozen=True)
+class Vector:
+    id: str
+    title: str
+    reference: str
+    rule: str
+    group: str
+    iut_role: str
+    params: Params3964
+    steps: tuple[Step, ...]
+    expected: Expected = Expected()
+    start: str = "idle"
+    requires: frozenset[str] = frozenset()
+    readings: tuple[str, ...] = ()       # ambiguities (A-numbers) the vector depends on
+    provenance: str = ""                 # [S] stated, [F] figure, [I] inferred (3964r.md §0.2)
+    notes: str = ""
+    source: str = ""                     # file the vector was loaded from
+    #: parameters the vector's bytes depend on; a profile must match them to run it
+    binds: tuple[str, ...] = ("procedure",)
+    #: tester-side parameters when they differ from the IUT's (e.g. configuration mismatch)
+    tester_params: Params3964 | None = None
+
+    @property
+    def needs(self) -> frozenset[str]:
+        """Capabilities the vector needs: declared plus those its steps imply."""
+        out = set(self.requires)
+        if any(s.kind in ("send_error", "break") for s in self.steps):
+            out.add("line_conditions")
+        if self.start == "power-on":
+            out.add("restart")
+        return frozenset(out)
+
+    def digest(self) -> str:
+        return hashlib.sha256(repr(self.to_toml()).encode()).hexdigest()[:12]
+
+    # -------------------------------------------------------------- writing
+    def to_toml(self) -> dict[str, Any]:
+        d: dict[str, Any] = {
+            "id": self.id, "title": self.title, "reference": self.reference, "rule": self.rule,
+            "group": self.group, "iut_role": self.iut_role,
+        }
+        if self.start != "idle":
+            d["start"] = self.start
+        if self.requires:
+            d["requires"] = sorted(self.requires)
+        if self.readings:
+            d["readings"] = list(self.readings)
+        if self.provenance:
+            d["provenance"] = self.provenance
+        if self.notes:
+            d["notes"] = self.notes
+        if self.binds != ("procedure",):
+            d["binds"] = list(self.binds)
+        d["params"] = _params_to_toml(self.params)
+        if self.tester_params is not None:
+            d["tester_params"] = _params_to_toml(self.tester_params)
+        e = self.expected
+        exp: dict[str, Any] = {"iut_status": e.iut_status.to_toml()}
+        if e.iut_status.optional:
+            exp["iut_status_optional"] = [f"16#{c:04X}" for c in sorted(e.iut_status.optional)]
+        exp["tester_status"] = e.tester_status.to_toml()
+        if e.tester_status.optional:
+            exp["tester_status_optional"] = [f"16#{c:04X}" for c in sorted(e.tester_status.optional)]
+        for name in ("delivered", "sent", "echo_after"):
+            v = getattr(e, name)
+            if v:
+                exp[name] = [vector_hex(x) for x in v]
+        d["expected"] = exp
+        d["steps"] = [s.to_toml() for s in self.steps]
+        return d
+
+
+def _params_to_toml(p: Params3964) -> dict[str, Any]:
+    d = p.to_dict()
+    if d["baud_rate"] is None:
+        d.pop("baud_rate")
+    return d
+
+
+class VectorError(ValueError):
+    """A vector file is broken. ``path``, ``field`` and the message say where and what."""
+
+    def __init__(self, path: str, fld: str, message: str):
+        self.path, self.field, self.message = path, fld, message
+        super().__init__(f"{path}: {fld}: {message}" if fld else f"{path}: {message}")
+
+
+_ID = re.compile(r"^[A-Z0-9][A-Z0-9.\-_]*$")
+_TOP_KEYS = {"id", "title", "reference", "rule", "group", "iut_role", "start", "requires",
+             "readings", "provenance", "notes", "binds", "params", "tester_params", "expected", "steps"}
+_EXPECTED_KEYS = {"iut_status", "iut_status_optional", "tester_status", "tester_status_optional",
+                  "delivered", "sent", "echo_after"}
+
+
+def load_vector(path: str | Path) -> Vector:
+    path = Path(path)
+    try:
+        raw = tomllib.loads(path.read_text("utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise VectorError(str(path), "", f"not valid TOML: {exc}") from None
+    except OSError as exc:
+        raise VectorError(str(path), "", f"cannot be read: {exc.strerror}") from None
+    return vector_from_dict(raw, str(path))
+
+
+def vector_from_dict(raw: dict[str, Any], source: str = "<vector>") -> Vector:
+    def err(fld: str, msg: str) -> VectorError:
+        return VectorError(source, fld, msg)
+
+    unknown = sorted(set(raw) - _TOP_KEYS)
+    if unknown:
+        raise err(unknown[0], "unknown key (known: " + ", ".join(sorted(_TOP_KEYS)) + ")")
+    for key in ("id", "title", "reference", "rule", "group", "iut_role", "params", "steps"):
+        if key not in raw:
+            raise err(key, "missing (required)")
+    for key in ("id", "title", "reference", "rule"):
+        if not isinstance(raw[key], str) or not raw[key].strip():
+            raise err(key, "must be a non-empty string")
+    if not _ID.match(raw["id"]):
+        raise err("id", f"{raw['id']!r}: use upper-case letters, digits, '.', '-' and '_'")
+    if raw["group"] not in GROUPS:
+        raise err("group", f"{raw['group']!r}: allowed values are {', '.join(GROUPS)}")
+    if raw["iut_role"] not in IUT_ROLES:
+        raise err("iut_role", f"{raw['iut_role']!r}: allowed values are {', '.join(IUT_ROLES)}")
+    start = raw.get("start", "idle")
+    if start not in STARTS:
+        raise err("start", f"{start!r}: allowed values are {', '.join(STARTS)}")
+    requires = raw.get("requires", [])
+    if not isinstance(requires, list) or any(r not in REQUIREMENTS for r in requires):
+        raise err("requires", f"{requires!r}: a list of {', '.join(REQUIREMENTS)}")
+    params = _params(raw["params"], "params", err)
+    tester_params = _params(raw["tester_params"], "tester_params", err) if "tester_params" in raw else None
+    binds = raw.get("binds", ["procedure"])
+    from dataclasses import fields as _fields
+    names = {f.name for f in _fields(Params3964) if f.init}
+    if not isinstance(binds, list) or any(b not in names for b in binds):
+        raise err("binds", f"{binds!r}: a list of parameter names ({', '.join(sorted(names))})")
+    if not isinstance(raw["steps"], list) or not raw["steps"]:
+        raise err("steps", "must be a non-empty list of steps")
+    steps = tuple(_step(s, f"steps[{i}]", err) for i, s in enumerate(raw["steps"]))
+    expected = _expected(raw.get("expected", {}), err)
+    readings = raw.get("readings", [])
+    if not isinstance(readings, list) or any(not re.match(r"^A\d+$", str(r)) for r in readings):
+        raise err("readings", "a list of ambiguity numbers such as \"A11\"")
+    for key in ("provenance", "notes"):
+        if key in raw and not isinstance(raw[key], str):
+            raise err(key, "must be a string")
+    return Vector(
+        id=raw["id"], title=raw["title"].strip(), reference=raw["reference"].strip(),
+        rule=raw["rule"].strip(), group=raw["group"], iut_role=raw["iut_role"], params=params,
+        steps=steps, expected=expected, start=start, requires=frozenset(requires),
+        readings=tuple(readings), provenance=raw.get("provenance", ""),
+        notes=raw.get("notes", "").strip(), source=source, binds=tuple(binds),
+        tester_params=tester_params,
+    )
+
+
+def _params(raw: Any, fld: str, err) -> Params3964:
+    if not isinstance(raw, dict):
+        raise err(fld, "must be a table of parameters")
+    try:
+        return Params3964.from_dict(raw)
+    except ParameterError as exc:
+        raise err(f"{fld}.{exc.name}", str(exc)) from None
+    except TypeError as exc:
+        raise err(fld, str(exc)) from None
+
+
+_REPEAT = re.compile(r"^([0-9A-Fa-f]{2})\*(\d+)$")
+
+
+def parse_vector_hex(text: str) -> bytes:
+    """Hex bytes as in the figures (``"02 10"``), where a token ``XX*N`` stands for the
+    byte XX repeated N times (``"41*1024"``)."""
+    out = bytearray()
+    for token in text.split():
+        m = _REPEAT.match(token)
+        if m:
+            out += bytes([int(m.group(1), 16)]) * int(m.group(2))
+        else:
+            out += codec.parse_hex(token)
+    return bytes(out)
+
+
+def vector_hex(data: bytes) -> str:
+    """Inverse of :func:`parse_vector_hex`, compressing runs of 8 or more equal bytes."""
+    parts, i = [], 0
+    while i < len(data):
+        j = i
+        while j < len(data) and data[j] == data[i]:
+            j += 1
+        n = j - i
+        parts.append(f"{data[i]:02X}*{n}" if n >= 8 else " ".join([f"{data[i]:02X}"] * n))
+        i = j
+    return " ".join(parts)
+
+
+def _hex(value: Any, fld: str, err) -> bytes:
+    if not isinstance(value, str):
+        raise err(fld, "must be a string of hex bytes such as \"02 10\"")
+    try:
+        return parse_vector_hex(value)
+    except ValueError as exc:
+        raise err(fld, str(exc)) from None
+
+
+def _expr(value: Any, fld: str, err, duration: bool = True) -> Expr:
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and value == 0:
+        value = "0"
+    if not isinstance(value, str):
+        raise err(fld, "must be a time expression in quotes, such as \"CDT + 2*CHAR\"")
+    try:
+        e = Expr(value)
+    except ExprError as exc:
+        raise err(fld, str(exc)) from None
+    if duration and value.strip() != "0" and not _dimension(e._tree(), value):
+        raise err(fld, f"{value!r} is a bare number; give a unit (ms, s) or a timer name")
+    return e
+
+
+def _step(raw: Any, fld: str, err) -> Step:
+    if not isinstance(raw, dict):
+        raise err(fld, "must be a table such as { send = \"02\" }")
+    kinds = [k for k in STEP_KINDS if k in raw]
+    if len(kinds) != 1:
+        raise err(fld, f"must have exactly one of {', '.join(STEP_KINDS)} (has {', '.join(kinds) or 'none'})")
+    kind = kinds[0]
+    extra = sorted(set(raw) - {kind} - _STEP_KEYS[kind])
+    if extra:
+        raise err(f"{fld}.{extra[0]}", f"not allowed in a {kind} step (allowed: {', '.join(sorted(_STEP_KEYS[kind]))})")
+    kw: dict[str, Any] = {"kind": kind, "note": raw.get("note", "")}
+    if kind in ("send", "send_error", "expect", "prime"):
+        kw["data"] = _hex(raw[kind], f"{fld}.{kind}", err)
+        if not kw["data"] and kind != "prime":
+            raise err(f"{fld}.{kind}", "must not be empty")
+        if kind == "prime" and not 1 <= len(kw["data"]) <= codec.MAX_BLOCK:
+            raise err(f"{fld}.prime", "a payload of 1..1024 bytes")
+    else:
+        kw["duration"] = _expr(raw[kind], f"{fld}.{kind}", err)
+    for key in ("at", "gap", "after", "within", "max_gap"):
+        if key in raw:
+            kw[key] = _expr(raw[key], f"{fld}.{key}", err)
+    if kind == "expect":
+        if "within" not in raw:
+            raise err(f"{fld}.within", "an expect step needs a window: within = \"...\"")
+        for key in ("partial", "optional"):
+            if key in raw:
+                if not isinstance(raw[key], bool):
+                    raise err(f"{fld}.{key}", "must be true or false")
+                kw[key] = raw[key]
+        for key, target in (("absent_grade", "absent_grade"), ("or_grade", "alt_grade")):
+            if key in raw:
+                if raw[key] not in GRADES:
+                    raise err(f"{fld}.{key}", f"{raw[key]!r}: allowed values are {', '.join(GRADES)}")
+                kw[target] = raw[key]
+        if "since" in raw:
+            if raw["since"] not in SINCE:
+                raise err(f"{fld}.since", f"{raw['since']!r}: allowed values are {', '.join(SINCE)}")
+            kw["since"] = raw["since"]
+        if "or" in raw:
+            if not isinstance(raw["or"], list) or not raw["or"]:
+                raise err(f"{fld}.or", "a non-empty list of hex strings")
+            kw["alternatives"] = tuple(_hex(a, f"{fld}.or[{i}]", err) for i, a in enumerate(raw["or"]))
+    return Step(**kw)
+
+
+def _status_list(raw: Any, fld: str, err) -> list[frozenset[int]]:
+    from .status import UnknownStatus, lookup
+    if not isinstance(raw, list):
+        raise err(fld, "a list of codes such as [\"16#0808\"] or alternatives [\"16#0703|16#0709\"]")
+    out = []
+    for i, item in enumerate(raw):
+        if not isinstance(item, str):
+            raise err(f"{fld}[{i}]", "must be a string such as \"16#0808\"")
+        try:
+            out.append(frozenset(lookup(p).code for p in item.split("|")))
+        except UnknownStatus as exc:
+            raise err(f"{fld}[{i}]", str(exc)) from None
+    return out
+
+
+def _expected(raw: Any, err) -> Expected:
+    if not isinstance(raw, dict):
+        raise err("expected", "must be a table")
+    unknown = sorted(set(raw) - _EXPECTED_KEYS)
+    if unknown:
+        raise err(f"expected.{unknown[0]}", "unknown key (known: " + ", ".join(sorted(_EXPECTED_KEYS)) + ")")
+
+    def spec(name: str) -> StatusSpec:
+        req = _status_list(raw.get(name, []), f"expected.{name}", err)
+        opt = _status_list(raw.get(name + "_optional", []), f"expected.{name}_optional", err)
+        return StatusSpec(tuple(req), frozenset().union(*opt) if opt else frozenset())
+
+    def blocks(name: str) -> tuple[bytes, ...]:
+        v = raw.get(name, [])
+        if not isinstance(v, list):
+            raise err(f"expected.{name}", "a list of hex payloads")
+        return tuple(_hex(x, f"expected.{name}[{i}]", err) for i, x in enumerate(v))
+
+    return Expected(spec("iut_status"), spec("tester_status"), blocks("delivered"),
+                    blocks("sent"), blocks("echo_after"))
+
+
+def load_dir(root: str | Path, recursive: bool = True) -> list[Vector]:
+    """Every ``*.toml`` vector under ``root`` (sorted by path); ids must be unique."""
+    root = Path(root)
+    if not root.is_dir():
+        raise VectorError(str(root), "", "is not a directory of vectors")
+    files = sorted(root.rglob("*.toml") if recursive else root.glob("*.toml"))
+    out: list[Vector] = []
+    seen: dict[str, str] = {}
+    for f in files:
+        v = load_vector(f)
+        if v.id in seen:
+            raise VectorError(str(f), "id", f"{v.id!r} is also the id of {seen[v.id]}")
+        seen[v.id] = str(f)
+        out.append(v)
+    return out
+
+
+# ------------------------------------------------------------------ expansion
+def expand(vector: Vector) -> tuple[Step, ...]:
+    """Replace ``prime`` steps by the conforming sender's exchange they stand for."""
+    out: list[Step] = []
+    proc = vector.params.procedure
+    for s in vector.steps:
+        if s.kind != "prime":
+            out.append(s)
+            continue
+        note = s.note or f"the tester delivers {codec.hexstr(s.data)} as a conforming sender"
+        out += [
+            Step("send", bytes([codec.STX]), note=f"STX ({note})"),
+            Step("expect", bytes([codec.DLE]), within=Expr("ADT"), note="DLE: setup acknowledged"),
+            Step("send", codec.body(s.data, proc), note="block: data, DLE ETX" + (", BCC" if proc == "3964R" else "")),
+            Step("expect", bytes([codec.DLE]), within=Expr("ADT"), note="DLE: block acknowledged"),
+        ]
+    return tuple(out)
+
+
+def with_params(vector: Vector, params: Params3964) -> Vector:
+    """The vector run with another parameter set (e.g. an IUT profile's timers)."""
+    return replace(vector, params=params)
+
+
+# ------------------------------------------------------------------ writing TOML
+def _toml_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v)
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
+    if isinstance(v, list):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{ " + ", ".join(f"{k} = {_toml_value(x)}" for k, x in v.items()) + " }"
+    raise TypeError(type(v))
+
+
+def dump_vector(vector: Vector, header: str = "") -> str:
+    """The vector as a TOML file that :func:`load_vector` reads back unchanged."""
+    d = vector.to_toml()
+    lines = []
+    if header:
+        lines += ["# " + line if line else "#" for line in header.splitlines()]
+        lines.append("")
+    for key, value in d.items():
+        if key in ("params", "tester_params", "expected", "steps"):
+            continue
+        lines.append(f"{key} = {_toml_value(value)}")
+    lines.append("steps = [")
+    for s in d["steps"]:
+        lines.append(f"  {_toml_value(s)},")
+    lines.append("]")
+    for table in ("params", "tester_params", "expected"):
+        if table in d:
+            lines.append("")
+            lines.append(f"[{table}]")
+            for key, value in d[table].items():
+                lines.append(f"{key} = {_toml_value(value)}")
+    return "\n".join(lines) + "\n"
+
+
+def vector_set_hash(vectors: Iterable[Vector]) -> str:
+    h = hashlib.sha256()
+    for v in sorted(vectors, key=lambda v: v.id):
+        h.update(v.id.encode())
+        h.update(v.digest().encode())
+    return h.hexdigest()[:16]

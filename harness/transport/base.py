@@ -1,0 +1,108 @@
+"""The transport interface: how the runner reaches an implementation under test (IUT).
+
+A transport carries bytes both ways with timestamps, may carry line conditions (BREAK, a
+character with a parity/framing error) towards the IUT, may start and stop the IUT, and
+may collect the STATUS events the IUT reports. It never interprets the protocol.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+#: Capabilities a transport may declare.
+BREAK = "break"              # can send a BREAK condition to the IUT
+CHAR_ERROR = "char_error"    # can send a character with a parity/framing error
+RESTART = "restart"          # starts a fresh IUT for every case (sees its start-up)
+STATUS = "status"            # collects the STATUS events the IUT reports
+
+STATUS_LINE = re.compile(rb"STATUS\s+16#([0-9A-Fa-f]{4})")
+
+
+class TransportError(RuntimeError):
+    """The transport cannot work (wrong URL, port busy, command not found...): a harness
+    or configuration fault, never a verdict on the IUT."""
+
+
+class IUTDied(RuntimeError):
+    """The IUT process ended during a case."""
+
+    def __init__(self, returncode: int | None, stderr_tail: str):
+        self.returncode, self.stderr_tail = returncode, stderr_tail
+        super().__init__(f"the IUT process ended (exit status {returncode})")
+
+
+@dataclass
+class CloseInfo:
+    returncode: int | None = None
+    stderr: str = ""
+    killed: bool = False
+    notes: list[str] = field(default_factory=list)
+
+
+class Transport:
+    """Base class. Times are seconds on the transport's clock (:meth:`now`)."""
+
+    url: str = ""
+    capabilities: frozenset[str] = frozenset()
+    #: True when the clock is virtual (the sim: transport): waits cost no real time
+    virtual: bool = False
+
+    def open(self) -> None:
+        """Connect (and start the IUT, where the transport starts it)."""
+
+    def now(self) -> float:
+        raise NotImplementedError
+
+    def write(self, data: bytes) -> float:
+        """Send bytes now; returns the time they were handed to the line."""
+        raise NotImplementedError
+
+    def send_break(self, duration: float) -> float:
+        raise TransportError(f"{self.url}: this transport cannot send BREAK")
+
+    def send_char_error(self, byte: int) -> float:
+        raise TransportError(f"{self.url}: this transport cannot send a character error")
+
+    def read(self, deadline: float) -> list[tuple[float, int]]:
+        """Wait until at least one byte has arrived or ``deadline`` has passed; return the
+        bytes received so far as (time, byte) pairs (possibly empty)."""
+        raise NotImplementedError
+
+    def status_reports(self) -> list[tuple[float, int]]:
+        """STATUS events the IUT reported since the last call (time, code)."""
+        return []
+
+    def close(self) -> CloseInfo:
+        return CloseInfo()
+
+    def describe(self) -> str:
+        return self.url
+
+
+class StatusParser:
+    """Picks ``STATUS 16#XXXX`` lines out of an IUT's stderr stream."""
+
+    def __init__(self, keep: int = 64 * 1024):
+        self._partial = b""
+        self.text = bytearray()
+        self.keep = keep
+        self.reports: list[tuple[float, int]] = []
+
+    def feed(self, t: float, data: bytes) -> None:
+        self.text += data
+        if len(self.text) > self.keep:
+            del self.text[: len(self.text) - self.keep]
+        buf = self._partial + data
+        *lines, self._partial = buf.split(b"\n")
+        for line in lines:
+            m = STATUS_LINE.search(line)
+            if m:
+                self.reports.append((t, int(m.group(1), 16)))
+
+    def drain(self) -> list[tuple[float, int]]:
+        out, self.reports = self.reports, []
+        return out
+
+    def tail(self, n: int = 2000) -> str:
+        return bytes(self.text[-n:]).decode("utf-8", "replace")
