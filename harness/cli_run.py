@@ -1,7 +1,209 @@
-"""Commands that run an IUT: ``run``, ``iut``, ``report`` (filled in by later modules)."""
+"""Commands that drive an IUT: ``run``, ``iut`` and ``report``."""
 
 from __future__ import annotations
 
+import datetime as _dt
+import signal
+import sys
+from pathlib import Path
+
+from . import __version__
+
 
 def add_commands(sub) -> None:
-    pass
+    r = sub.add_parser("run", help="run the suite against an implementation under test",
+                       description="Run the conformance cases against an IUT and write the reports. "
+                                   "Exit status: 0 nothing failed, 1 a case failed or xpassed, "
+                                   "2 bad usage or a harness error.")
+    r.add_argument("--iut", required=True, metavar="URL",
+                   help="exec:COMMAND | pty:COMMAND (with {port}) | sim:[?opts] | a pyserial URL or device")
+    r.add_argument("--profile", required=True, metavar="FILE", help="the IUT profile (TOML)")
+    r.add_argument("--select", action="append", metavar="GLOB", help="only cases whose id matches (repeatable)")
+    r.add_argument("--junit", metavar="PATH", help="write a JUnit XML file")
+    r.add_argument("--json", metavar="PATH", help="write the results object as JSON")
+    r.add_argument("--html", metavar="PATH", help="write the HTML report")
+    r.add_argument("--vectors", metavar="DIR", help="vector directory (default: the project's vectors/)")
+    r.add_argument("--vectors-only", action="store_true", help="run only the golden vectors, not the suite")
+    r.add_argument("--tolerance-ms", type=float, default=50.0,
+                   help="how late a reply may be beyond its window, plus 25%% of the window (default 50)")
+    r.add_argument("--startup-timeout", type=float, default=2.0,
+                   help="seconds a freshly started IUT may take before its start-up NAK (default 2)")
+    r.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
+    r.set_defaults(func=cmd_run)
+
+    i = sub.add_parser("iut", help="run the bundled reference implementation (the model, in real time)",
+                       description="The reference model as a real-time 3964/3964R station on stdin/stdout "
+                                   "(or --port), with the echo application. STATUS events go to stderr "
+                                   "as 'STATUS 16#XXXX' lines.")
+    i.add_argument("--procedure", choices=["3964", "3964R"], default="3964R")
+    i.add_argument("--priority", choices=["low", "high"], default="low")
+    i.add_argument("--cdt-ms", type=int, default=220, help="character delay time (default 220)")
+    i.add_argument("--adt-ms", type=int, default=None, help="acknowledgement delay time (default 2000; 550 for 3964)")
+    i.add_argument("--setup-attempts", type=int, default=6)
+    i.add_argument("--transmission-attempts", type=int, default=6)
+    i.add_argument("--baud", type=int, default=9600, help="baud rate; 0: do not pace the output")
+    i.add_argument("--data-bits", type=int, choices=[7, 8], default=8)
+    i.add_argument("--parity", choices=["none", "odd", "even"], default="even")
+    i.add_argument("--stop-bits", type=int, choices=[1, 2], default=1)
+    i.add_argument("--parmrk", action="store_true",
+                   help="the input marks line conditions as termios PARMRK does (FF 00 00 BREAK, FF 00 xx error, FF FF data FF)")
+    i.add_argument("--port", metavar="URL", help="use this serial port (pyserial URL or device) instead of stdin/stdout")
+    i.add_argument("--app", choices=["echo", "none"], default="echo", help="what to do with received blocks")
+    i.add_argument("--mutant", metavar="NAME", help="run a deliberately broken variant (see --list-mutants)")
+    i.add_argument("--list-mutants", action="store_true", help="list the broken variants and exit")
+    i.add_argument("-v", "--verbose", action="store_true", help="also log deliveries and job results on stderr")
+    i.set_defaults(func=cmd_iut)
+
+    rep = sub.add_parser("report", help="render a saved results object (JSON) as HTML or JUnit")
+    rep.add_argument("results", metavar="RESULTS.json")
+    rep.add_argument("--html", metavar="PATH")
+    rep.add_argument("--junit", metavar="PATH")
+    rep.set_defaults(func=cmd_report)
+
+
+def cmd_iut(args) -> int:
+    from .iut import run_iut
+    from .model import ParameterError, Params3964
+
+    if args.list_mutants:
+        from .mutants import MUTANTS
+        for name, m in MUTANTS.items():
+            print(f"{name:<28} {m.rule}")
+        return 0
+    if args.mutant:
+        from .mutants import MUTANTS
+        if args.mutant not in MUTANTS:
+            print(f"ptpcert iut: unknown mutant {args.mutant!r}; --list-mutants shows them", file=sys.stderr)
+            return 2
+    try:
+        params = Params3964(
+            procedure=args.procedure, priority=args.priority, cdt_ms=args.cdt_ms, adt_ms=args.adt_ms,
+            setup_attempts=args.setup_attempts, transmission_attempts=args.transmission_attempts,
+            baud_rate=None if args.baud == 0 else args.baud, data_bits=args.data_bits,
+            parity=args.parity, stop_bits=args.stop_bits)
+    except ParameterError as exc:
+        print(f"ptpcert iut: {exc}", file=sys.stderr)
+        return 2
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
+    return run_iut(params, parmrk=args.parmrk, port=args.port, mutant=args.mutant, app=args.app,
+                   verbose=args.verbose)
+
+
+def _interrupt(*_):
+    raise KeyboardInterrupt
+
+
+def cmd_run(args) -> int:
+    from . import report as rep
+    from . import results as R
+    from .paths import default_vectors_dir
+    from .profile import ProfileError, load_profile
+    from .runner import RunOptions, Runner
+    from .scenario import VectorError, vector_set_hash
+    from .suite import load_suite
+    from .transport import TransportError, make_factory
+
+    try:
+        profile = load_profile(args.profile)
+    except ProfileError as exc:
+        print(f"ptpcert run: bad profile: {exc}", file=sys.stderr)
+        return 2
+    vdir = Path(args.vectors) if args.vectors else default_vectors_dir()
+    try:
+        cases = load_suite(profile.params, vdir, include_suite=not args.vectors_only, select=args.select)
+    except (VectorError, ValueError) as exc:
+        print(f"ptpcert run: {exc}", file=sys.stderr)
+        return 2
+    if not cases:
+        print("ptpcert run: no case matches " + " ".join(args.select or []), file=sys.stderr)
+        return 2
+    try:
+        factory, shutdown = make_factory(args.iut, profile)
+        preflight(args.iut, factory, cases[0], profile)
+    except TransportError as exc:
+        print(f"ptpcert run: {exc}", file=sys.stderr)
+        return 2
+    opts = RunOptions(late_ms=args.tolerance_ms, startup_timeout=args.startup_timeout,
+                      echo=profile.echo, check_status=profile.status_from_stderr)
+    runner = Runner(factory, profile, opts)
+    result = R.RunResult(tool_version=__version__, started=_now(), iut=args.iut,
+                         profile=profile.to_dict(), profile_path=str(args.profile),
+                         vector_set=str(vdir), vector_set_hash=vector_set_hash(cases),
+                         html_path=args.html or "")
+
+    def progress(i, n, c):
+        if not args.quiet:
+            print(rep.progress_line(i, n, c), flush=True)
+
+    old = signal.signal(signal.SIGTERM, _interrupt)
+    try:
+        runner.run(cases, result, progress)
+    finally:
+        signal.signal(signal.SIGTERM, old)
+        shutdown()
+        result.finished = _now()
+        write_reports(result, args)
+    print(rep.summary(result))
+    for kind in ("junit", "json", "html"):
+        if getattr(args, kind):
+            print(f"{kind}: {getattr(args, kind)}")
+    if result.counts()[R.ERROR] and result.exit_status() == 0:
+        return 2
+    return result.exit_status()
+
+
+def write_reports(result, args) -> None:
+    from . import report as rep
+
+    if getattr(args, "json", None):
+        result.write_json(args.json)
+    if getattr(args, "html", None):
+        from .html import write_html
+        write_html(result, args.html)
+    if getattr(args, "junit", None):
+        rep.write_junit(result, args.junit)
+
+
+def preflight(url: str, factory, case, profile) -> None:
+    """Start the IUT once before the run: a command that cannot start, or a port that cannot
+    be opened, is a usage error (exit 2), not 50 failed cases."""
+    from .transport import IUTDied, RESTART, TransportError
+
+    tr = factory(case, profile.params)
+    if RESTART not in tr.capabilities or tr.virtual:
+        return
+    try:
+        tr.open()
+        tr.read(tr.now() + 1.0)
+    except IUTDied as exc:
+        raise TransportError(f"{url}: the IUT ended at start-up (exit status {exc.returncode})"
+                             + (f": {exc.stderr_tail.strip()[-600:]}" if exc.stderr_tail.strip() else "")) from None
+    finally:
+        tr.close()
+
+
+def cmd_report(args) -> int:
+    from . import report as rep
+    from .results import RunResult
+
+    try:
+        result = RunResult.read_json(args.results)
+    except ValueError as exc:
+        print(f"ptpcert report: {exc}", file=sys.stderr)
+        return 2
+    if not args.html and not args.junit:
+        print(rep.summary(result))
+        return 0
+    if args.html:
+        result.html_path = args.html
+        from .html import write_html
+        write_html(result, args.html)
+        print(f"html: {args.html}")
+    if args.junit:
+        rep.write_junit(result, args.junit)
+        print(f"junit: {args.junit}")
+    return 0
+
+
+def _now() -> str:
+    return _dt.datetime.now(_dt.timezone.utc).astimezone().isoformat(timespec="seconds")

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field, replace
 from typing import Callable, Iterable
 
 from . import results as R
-from .model import Params3964, Station3964, codec
+from .model import Host, Params3964, Station3964, codec
 from .model.events import Delivered, status_text
 from .profile import Profile
 from .scenario import Expr, Step, Vector, expand, timer_env
@@ -84,6 +84,65 @@ class RunOptions:
     virtual: bool = False
 
 
+# ------------------------------------------------------------------ driving a model station
+
+
+class Endpoint:
+    """What a model station driven in real (or virtual) time talks through."""
+
+    def now(self) -> float:
+        raise NotImplementedError
+
+    def poll(self, deadline: float) -> list[tuple[float, str, int]]:
+        """Wait until input arrives or ``deadline``; return (time, kind, value) items,
+        kind being "byte", "invalid" (a character with a parity/framing error) or "break".
+        Raises EOFError when the input has ended."""
+        raise NotImplementedError
+
+    def write(self, data: bytes) -> float:
+        raise NotImplementedError
+
+
+def drive_station(host, ep: Endpoint, *, stop: Callable[[], bool] | None = None,
+                  on_event: Callable | None = None, until: float = float("inf")) -> None:
+    """Run a model station (with its application) against an endpoint until ``stop()``
+    says so, ``until`` is reached, or the input ends. Inputs of an instant are delivered
+    before the deadlines of that instant (the station's ordering rule). Each byte is written
+    when its transmission is complete (start + one character time), which is when a UART on
+    the other side would hand it over; so the station's pacing is kept and a pipe behaves
+    like a line."""
+    st = host.station
+    char = st.params.char_time
+    pending: list[tuple[float, int]] = []   # started on the line, not yet complete
+    while True:
+        now = ep.now()
+        pending += st.pop_output(now)
+        # a character reaches the other side when its stop bit is out
+        while pending and pending[0][0] + char <= now:
+            ep.write(bytes([pending.pop(0)[1]]))
+        for e in host.drain():
+            if on_event is not None:
+                on_event(e)
+        if (stop is not None and stop() and not pending) or now >= until:
+            return
+        d = st.next_deadline()
+        wake = until if d is None else min(d, until)
+        if pending:
+            wake = min(wake, pending[0][0] + char)
+        for t, kind, value in ep.poll(wake):
+            t = max(t, st.now)
+            if kind == "byte":
+                st.receive(t, value)
+            elif kind == "invalid":
+                st.receive_invalid(t, value)
+            else:
+                st.line_break(t)
+        now = ep.now()
+        d = st.next_deadline()
+        if d is not None and d <= now:
+            st.handle_timer(now)
+
+
 # ------------------------------------------------------------------ the case driver
 
 
@@ -149,12 +208,14 @@ class CaseRun:
             getattr(self, "_" + step.kind)(step)
 
     def _send_bytes(self, step: Step, data: bytes, writer: Callable[[int], float], kind: str) -> None:
+        """Send characters paced as on the line: the k-th starts at ref + at + k*(CHAR+gap)
+        and is handed over when it is complete, one character time later."""
         at, gap = self.ev(step.at), self.ev(step.gap)
         char = self.tp.char_time
         start = self.ref + at
         t = start
         for k, b in enumerate(data):
-            target = start + k * (char + gap)
+            target = start + k * (char + gap) + char
             self.wait_until(target)
             t = writer(b)
             self.log.append({"t": self.rel(t), "dir": "tester", "kind": kind, "byte": b, "step": self.step_index})
@@ -162,7 +223,7 @@ class CaseRun:
             if late > self.tol.stimulus:
                 raise TimingFault(f"step {self.step_index + 1}: the tester's byte {k + 1} went out "
                                   f"{late * 1000:.1f} ms late (allowed {self.tol.stimulus * 1000:.1f} ms)")
-        self.ref = self.sent_end = t + char
+        self.ref = self.sent_end = t
         self.forced += at + len(data) * char + max(0, len(data) - 1) * gap
 
     def _send(self, step: Step) -> None:
@@ -351,51 +412,65 @@ class CaseRun:
                                                      label="the tester plays a conforming partner")
 
     def _play_partner(self, params: Params3964, limit: float, want: int | None, label: str) -> list[bytes]:
-        """Let a model station in the tester's seat answer the IUT in real (or virtual) time
-        until it has received ``want`` blocks (None: until both sides are quiet), or until
-        ``limit``. Returns the blocks it received."""
+        """Let a model station in the tester's seat answer the IUT until it has received
+        ``want`` blocks (None: until both sides are quiet), or until ``limit``. Returns the
+        blocks it received."""
         partner = Station3964(params, name="tester")
         start = min(self.rx[self.pos][0] if self.pos < len(self.rx) else self.ref, self.ref)
         partner.power_on(start)
         partner.pop_output()          # it is already running: no start-up NAK here
+        ep = _CaseEndpoint(self)
         quiet = max(params.cdt, params.adt) + 4 * params.char_time
         got: list[bytes] = []
-        last = self.tr.now()
+
+        def on_event(e) -> None:
+            if isinstance(e, Delivered):
+                got.append(e.payload)
+
+        def stop() -> bool:
+            if not (partner.idle and partner.next_deadline() is None):
+                return False
+            if want is not None:
+                return len(got) >= want
+            return ep.now() - ep.last >= quiet
+
         self.mark("window", t0=self.rel(self.ref), t1=self.rel(limit), label=label)
-        while True:
-            while self.pos < len(self.rx):
-                t, b = self.rx[self.pos]
-                partner.receive(max(t, partner.now), b)
-                self.pos += 1
-                last = max(last, t)
-            now = self.tr.now()
-            d = partner.next_deadline()
-            if d is not None and d <= now:
-                partner.handle_timer(now)
-            for _, b in partner.pop_output(now):
-                w = self.tr.write(bytes([b]))
-                last = w
-                self.log.append({"t": self.rel(w), "dir": "tester", "kind": "byte", "byte": b, "step": self.step_index})
-            for e in partner.pop_events():
-                if isinstance(e, Delivered):
-                    got.append(e.payload)
-            if partner.idle and partner.next_deadline() is None:
-                if want is not None and len(got) >= want:
-                    break
-                if want is None and now - last >= quiet:
-                    break
-            if now >= limit:
-                if want is not None:
-                    self.fail(f"{want} block(s) from the IUT",
-                              f"received {len(got)} intact block(s) before the time limit", now)
-                break
-            wake = min(limit, last + quiet)
-            d = partner.next_deadline()
-            if d is not None:
-                wake = min(wake, d)
-            self._pump(max(wake, now))
-        self.ref = max(self.ref, min(self.tr.now(), last))
+        drive_station(Host(partner, "none"), ep, stop=stop, on_event=on_event,
+                      until=limit)
+        if want is not None and len(got) < want:
+            self.fail(f"{want} block(s) from the IUT",
+                      f"received {len(got)} intact block(s) before the time limit", self.tr.now())
+        self.ref = max(self.ref, min(self.tr.now(), ep.last))
         return got
+
+
+class _CaseEndpoint(Endpoint):
+    """The case's line as an endpoint for a model station in the tester's seat."""
+
+    def __init__(self, run: "CaseRun"):
+        self.run = run
+        self.last = run.tr.now()
+
+    def now(self) -> float:
+        return self.run.tr.now()
+
+    def poll(self, deadline: float) -> list[tuple[float, str, int]]:
+        run = self.run
+        if run.pos >= len(run.rx):
+            run._pump(max(deadline, run.tr.now()))
+        items = [(t, "byte", b) for t, b in run.rx[run.pos:]]
+        run.pos = len(run.rx)
+        if items:
+            self.last = max(self.last, items[-1][0])
+        return items
+
+    def write(self, data: bytes) -> float:
+        run = self.run
+        w = run.tr.write(data)
+        self.last = max(self.last, w)
+        for b in data:
+            run.log.append({"t": run.rel(w), "dir": "tester", "kind": "byte", "byte": b, "step": run.step_index})
+        return w
 
 
 @dataclass
@@ -525,6 +600,13 @@ class Runner:
             res.stderr_tail = exc.stderr_tail
         except TransportError as exc:
             res.verdict, res.message = R.ERROR, f"transport: {exc}"
+        except (KeyboardInterrupt, SystemExit):
+            raise
+        except Exception as exc:  # a harness bug: an error, never blamed on the IUT
+            import traceback
+            res.verdict = R.ERROR
+            res.message = f"harness fault: {type(exc).__name__}: {exc}"
+            res.notes.append(traceback.format_exc(limit=6))
         finally:
             try:
                 info = tr.close()
@@ -544,8 +626,7 @@ class Runner:
 
     def _judge_events(self, v: Vector, tr: Transport, res: R.CaseResult, run: CaseRun) -> None:
         if STATUS in tr.capabilities and self.opts.check_status:
-            reports = getattr(tr, "all_status", None)
-            codes = [c for _, c in (reports() if reports else tr.status_reports())]
+            codes = [c for _, c in tr.status_reports()]
             res.observed_status = [status_text(c) for c in codes]
             res.status_checked = True
             problems = v.expected.iut_status.judge(codes)

@@ -65,19 +65,20 @@ class SimTransport(Transport):
         self._seq += 1
         heapq.heappush(self._arrivals, (at, self._seq, kind, value))
 
+    # The runner hands a character over when it is complete (as a UART on the other side
+    # would); so it arrives at once, and each further byte of one write a character later.
     def write(self, data: bytes) -> float:
         t = self._now
         for i, b in enumerate(data):
-            self._push(t + (i + 1) * self._tester_char, "byte", b)
+            self._push(t + i * self._tester_char, "byte", b)
         return t
 
     def send_break(self, duration: float) -> float:
-        # the receiver detects the break one character time after the line went to space
-        self._push(self._now + max(self._tester_char, 1e-6), "break", 0)
+        self._push(self._now, "break", 0)
         return self._now
 
     def send_char_error(self, byte: int) -> float:
-        self._push(self._now + self._tester_char, "invalid", byte)
+        self._push(self._now, "invalid", byte)
         return self._now
 
     # -- time -----------------------------------------------------------------------

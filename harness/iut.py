@@ -1,0 +1,174 @@
+"""``ptpcert iut``: the bundled reference implementation.
+
+The reference model as a real-time station on stdin/stdout (or on a serial port given by
+``--port``), with the echo application: every block it receives it sends back as a new
+block. It paces what it sends at the character time of the baud rate and character format
+(``--baud 0``: no pacing), reads PARMRK marking of line conditions with ``--parmrk``, and
+reports each STATUS event on stderr as one line ``STATUS 16#XXXX``.
+"""
+
+from __future__ import annotations
+
+import os
+import select
+import sys
+import time
+
+from .model import Host, Params3964, Station3964
+from .model.events import Delivered, SendDone, SendFailed, Status
+from .runner import Endpoint, drive_station
+
+
+class ParmrkDecoder:
+    """Turns a byte stream marked as POSIX termios PARMRK marks it into line events:
+    ``FF FF`` -> data FF, ``FF 00 00`` -> BREAK, ``FF 00 xx`` -> xx with a parity/framing
+    error. Without marking (``enabled=False``) every byte is data."""
+
+    def __init__(self, enabled: bool):
+        self.enabled = enabled
+        self._pending = b""
+
+    def feed(self, t: float, data: bytes) -> list[tuple[float, str, int]]:
+        if not self.enabled:
+            return [(t, "byte", b) for b in data]
+        buf = self._pending + data
+        out: list[tuple[float, str, int]] = []
+        i, n = 0, len(buf)
+        while i < n:
+            b = buf[i]
+            if b != 0xFF:
+                out.append((t, "byte", b))
+                i += 1
+                continue
+            if i + 1 >= n:
+                break
+            if buf[i + 1] == 0xFF:
+                out.append((t, "byte", 0xFF))
+                i += 2
+                continue
+            if buf[i + 1] != 0x00:
+                out.append((t, "byte", 0xFF))  # not a mark: take FF as data
+                i += 1
+                continue
+            if i + 2 >= n:
+                break
+            x = buf[i + 2]
+            out.append((t, "break", 0) if x == 0 else (t, "invalid", x))
+            i += 3
+        self._pending = buf[i:]
+        return out
+
+
+class StdioEndpoint(Endpoint):
+    """stdin/stdout as the line."""
+
+    def __init__(self, fd_in: int = 0, fd_out: int = 1, parmrk: bool = False):
+        self.fd_in, self.fd_out = fd_in, fd_out
+        self.decoder = ParmrkDecoder(parmrk)
+
+    def now(self) -> float:
+        return time.monotonic()
+
+    def poll(self, deadline: float) -> list[tuple[float, str, int]]:
+        timeout = None if deadline == float("inf") else max(0.0, deadline - time.monotonic())
+        r, _, _ = select.select([self.fd_in], [], [], timeout)
+        if not r:
+            return []
+        data = os.read(self.fd_in, 65536)
+        if not data:
+            raise EOFError
+        return self.decoder.feed(time.monotonic(), data)
+
+    def write(self, data: bytes) -> float:
+        t = time.monotonic()
+        os.write(self.fd_out, data)
+        return t
+
+
+class SerialEndpoint(Endpoint):
+    """A pyserial port as the line (``--port``). On a real tty device with ``--parmrk`` the
+    kernel marks breaks and parity errors (termios PARMRK); on a pseudo-terminal the marks
+    come in-band from the other side."""
+
+    def __init__(self, url: str, params: Params3964, parmrk: bool):
+        import serial
+
+        parity = {"none": serial.PARITY_NONE, "odd": serial.PARITY_ODD, "even": serial.PARITY_EVEN}[params.parity]
+        try:
+            self.port = serial.serial_for_url(url, baudrate=params.baud_rate or 9600,
+                                              bytesize=params.data_bits, parity=parity,
+                                              stopbits=params.stop_bits, timeout=0)
+        except (serial.SerialException, ValueError) as exc:
+            raise SystemExit(f"ptpcert iut: cannot open {url}: {exc}")
+        self.fd = None
+        try:
+            self.fd = self.port.fileno()
+        except Exception:
+            self.fd = None
+        if parmrk and self.fd is not None and os.isatty(self.fd) and not _is_pty(self.fd):
+            import termios
+            attrs = termios.tcgetattr(self.fd)
+            attrs[0] |= termios.PARMRK | termios.INPCK
+            attrs[0] &= ~(termios.IGNPAR | termios.IGNBRK | termios.BRKINT | termios.ISTRIP)
+            termios.tcsetattr(self.fd, termios.TCSANOW, attrs)
+        self.decoder = ParmrkDecoder(parmrk)
+
+    def now(self) -> float:
+        return time.monotonic()
+
+    def poll(self, deadline: float) -> list[tuple[float, str, int]]:
+        remaining = None if deadline == float("inf") else max(0.0, deadline - time.monotonic())
+        if self.fd is not None:
+            r, _, _ = select.select([self.fd], [], [], remaining)
+            if not r:
+                return []
+            data = self.port.read(max(1, self.port.in_waiting))
+        else:
+            self.port.timeout = 0.05 if remaining is None else min(remaining, 0.05)
+            data = self.port.read(max(1, self.port.in_waiting))
+        if not data:
+            return []
+        return self.decoder.feed(time.monotonic(), data)
+
+    def write(self, data: bytes) -> float:
+        t = time.monotonic()
+        self.port.write(data)
+        return t
+
+
+def _is_pty(fd: int) -> bool:
+    try:
+        return os.ttyname(fd).startswith("/dev/pts/")
+    except OSError:
+        return False
+
+
+def make_station(params: Params3964, mutant: str | None = None) -> Station3964:
+    if mutant:
+        from .mutants import make_mutant
+        return make_mutant(mutant, params)
+    return Station3964(params, name="iut")
+
+
+def run_iut(params: Params3964, *, parmrk: bool, port: str | None = None, mutant: str | None = None,
+            app: str = "echo", verbose: bool = False) -> int:
+    station = make_station(params, mutant)
+    host = Host(station, app)
+    ep: Endpoint = SerialEndpoint(port, params, parmrk) if port else StdioEndpoint(parmrk=parmrk)
+    err = sys.stderr
+
+    def on_event(e) -> None:
+        if isinstance(e, Status):
+            err.write(f"STATUS 16#{e.code:04X}\n")
+        elif verbose and isinstance(e, (Delivered, SendDone, SendFailed)):
+            err.write(f"# {type(e).__name__} {e.payload.hex(' ')}\n")
+        err.flush()
+
+    station.power_on(ep.now())
+    try:
+        drive_station(host, ep, on_event=on_event)
+    except EOFError:
+        pass
+    except (BrokenPipeError, KeyboardInterrupt):
+        return 0
+    return 0

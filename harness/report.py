@@ -1,0 +1,134 @@
+"""Views of the results object: the console summary and the JUnit XML file (written with
+junit-xml). The HTML report lives in :mod:`harness.html`."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from . import results as R
+from .status import short
+
+#: How each verdict shows in JUnit: as a pass, a failure, an error or a skip.
+JUNIT_KIND = {
+    R.PASS: "pass", R.NON_STRICT: "pass", R.INFORMATIONAL: "pass",
+    R.FAIL: "failure", R.XPASS: "failure",
+    R.ERROR: "error",
+    R.UNSUPPORTED: "skipped", R.XFAIL: "skipped", R.NOT_RUN: "skipped",
+}
+
+
+def anchor(case_id: str) -> str:
+    """The HTML anchor of a case (shared by the console, JUnit and HTML views)."""
+    return "case-" + "".join(c if c.isalnum() else "-" for c in case_id)
+
+
+def case_link(run: R.RunResult, c: R.CaseResult) -> str:
+    return f"{run.html_path}#{anchor(c.id)}" if run.html_path else ""
+
+
+def transcript_text(c: R.CaseResult, tail: int = 40) -> str:
+    """The last ``tail`` entries of a case's transcript as text lines."""
+    lines = []
+    for e in c.transcript:
+        if e.get("kind") not in ("byte", "break", "char_error"):
+            continue
+        who = "tester" if e["dir"] == "tester" else "IUT   "
+        what = {"byte": "", "break": "BREAK ", "char_error": "char-error "}[e["kind"]]
+        val = "" if e["kind"] == "break" else f"{e['byte']:02X}"
+        lines.append(f"{e['t'] * 1000:10.3f} ms  {who} -> {what}{val}")
+    return "\n".join(lines[-tail:])
+
+
+def failure_text(c: R.CaseResult) -> str:
+    parts = [c.message]
+    if c.divergence is not None:
+        d = c.divergence
+        parts.append(f"first divergence at step {d.step + 1}, {d.time * 1000:.3f} ms: "
+                     f"expected {d.expected}; {d.observed}")
+    parts.append(f"expected STATUS at the IUT: {c.expected_status}")
+    if c.status_checked:
+        parts.append("reported STATUS: " + (", ".join(c.observed_status) or "none"))
+    return "\n".join(parts)
+
+
+def write_junit(run: R.RunResult, path: str | Path) -> None:
+    from junit_xml import TestCase, TestSuite, to_xml_report_string
+
+    cases = []
+    for c in run.cases:
+        name = f"{c.id} [{c.reference}]"
+        out = [f"rule: {c.rule}", f"verdict: {c.verdict}",
+               f"expected STATUS at the IUT: {c.expected_status}",
+               f"a CP 341 in the tester's seat raises: {c.tester_status}"]
+        if c.message:
+            out.append(c.message)
+        link = case_link(run, c)
+        if link:
+            out.append(f"report: {link}")
+        tc = TestCase(name, classname=f"ptpcert.{c.group}", elapsed_sec=c.duration,
+                      stdout="\n".join(out), stderr=c.stderr_tail or None, url=link or None,
+                      file=c.source or None)
+        kind = JUNIT_KIND.get(c.verdict, "error")
+        detail = failure_text(c) + "\n\ntranscript (tail):\n" + transcript_text(c)
+        if link:
+            detail += f"\n\nsequence diagram: {link}"
+        if kind == "failure":
+            tc.add_failure_info(message=f"{c.verdict}: {c.message}"[:500], output=detail, failure_type=c.verdict)
+        elif kind == "error":
+            tc.add_error_info(message=c.message[:500], output=detail, error_type="harness")
+        elif kind == "skipped":
+            tc.add_skipped_info(message=f"{c.verdict}: {c.message}"[:500])
+        cases.append(tc)
+    props = {"tool": f"ptpcert {run.tool_version}", "iut": run.iut, "profile": run.profile_path,
+             "vector_set_hash": run.vector_set_hash, "verdict": run.verdict,
+             "interrupted": str(run.interrupted).lower()}
+    for k, v in run.profile.items():
+        if k != "expected_failures":
+            props[f"profile.{k}"] = str(v)
+    suite = TestSuite("ptpcert 3964/3964R conformance", cases, timestamp=run.started, properties=props)
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    tmp = p.with_suffix(p.suffix + ".tmp")
+    tmp.write_text(to_xml_report_string([suite], prettyprint=True), "utf-8")
+    tmp.replace(p)
+
+
+def progress_line(i: int, n: int, c: R.CaseResult) -> str:
+    w = len(str(n))
+    extra = ""
+    if c.verdict not in (R.PASS,):
+        extra = f"  {c.message[:110]}" if c.message else ""
+    return f"[{i:>{w}}/{n}] {c.verdict:<13} {c.id}  ({c.duration:.2f} s){extra}"
+
+
+def summary(run: R.RunResult) -> str:
+    counts = run.counts()
+    lines = ["", "verdict        cases"]
+    for v in R.VERDICTS:
+        if counts.get(v):
+            lines.append(f"  {v:<13}{counts[v]:>6}")
+    lines.append(f"  {'total':<13}{len(run.cases):>6}")
+    bad = [c for c in run.cases if c.verdict in (R.FAIL, R.XPASS, R.ERROR)]
+    if bad:
+        lines.append("")
+        lines.append("not passed:")
+        for c in bad:
+            lines.append(f"  {c.verdict:<6} {c.id}  [{c.reference}]")
+            lines.append(f"         {c.message[:200]}")
+            if c.divergence is not None:
+                d = c.divergence
+                lines.append(f"         step {d.step + 1} at {d.time * 1000:.1f} ms: expected {d.expected}; {d.observed}")
+            link = case_link(run, c)
+            if link:
+                lines.append(f"         {link}")
+    lines.append("")
+    state = "INTERRUPTED, " if run.interrupted else ""
+    lines.append(f"{state}{len(run.cases)} cases in {run.wall_time:.1f} s: overall {run.verdict.upper()}")
+    return "\n".join(lines)
+
+
+def status_line(code: str) -> str:
+    try:
+        return f"{code} {short(int(code[3:], 16))}"
+    except ValueError:
+        return code

@@ -1,0 +1,26 @@
+"""The set of cases a run executes: the golden vectors plus the conformance suite,
+selected by id globs and ordered so that long waits come last."""
+
+from __future__ import annotations
+
+import fnmatch
+from pathlib import Path
+
+from .model import Params3964
+from .scenario import Vector, load_dir
+
+
+def load_suite(params: Params3964, vectors_dir: str | Path, *, include_suite: bool = True,
+               select: list[str] | None = None) -> list[Vector]:
+    vectors = load_dir(vectors_dir)
+    if include_suite:
+        import conformance
+        vectors = vectors + conformance.cases(params)
+    seen: dict[str, Vector] = {}
+    for v in vectors:
+        if v.id in seen:
+            raise ValueError(f"case id {v.id} is used twice ({seen[v.id].source or 'suite'} and {v.source or 'suite'})")
+        seen[v.id] = v
+    if select:
+        vectors = [v for v in vectors if any(fnmatch.fnmatchcase(v.id, g) for g in select)]
+    return vectors

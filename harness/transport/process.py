@@ -1,0 +1,283 @@
+"""``exec:COMMAND`` and ``pty:COMMAND``: the IUT is a process the harness starts for each
+case, in its own process group, and always stops (also on Ctrl-C, crash or timeout).
+
+* ``exec:`` — the wire is the process's stdin/stdout.
+* ``pty:`` — the harness opens a pseudo-terminal pair, replaces ``{port}`` in COMMAND by
+  the device path and starts it; the wire is the pty. stdin and stdout of the process are
+  not used for the line.
+
+Line conditions towards the IUT are marked in-band as POSIX PARMRK marks them (``FF 00 00``
+BREAK, ``FF 00 xx`` character xx with a parity/framing error, ``FF FF`` a data byte FF)
+when the profile says the IUT reads that marking. The IUT's stderr is kept, and lines
+``STATUS 16#XXXX`` on it are collected with their arrival times.
+"""
+
+from __future__ import annotations
+
+import atexit
+import errno
+import fcntl
+import os
+import select
+import signal
+import subprocess
+import time
+import tty
+import weakref
+
+from .base import (BREAK, CHAR_ERROR, RESTART, STATUS, CloseInfo, IUTDied, StatusParser,
+                   Transport, TransportError)
+
+_LIVE: "weakref.WeakSet[ProcessTransport]" = weakref.WeakSet()
+
+
+@atexit.register
+def _kill_leftovers() -> None:  # the last line of defence: no IUT outlives the harness
+    for t in list(_LIVE):
+        try:
+            t.close()
+        except Exception:
+            pass
+
+
+def _nonblocking(fd: int) -> None:
+    fl = fcntl.fcntl(fd, fcntl.F_GETFL)
+    fcntl.fcntl(fd, fcntl.F_SETFL, fl | os.O_NONBLOCK)
+
+
+class ProcessTransport(Transport):
+    kind = "exec"
+
+    def __init__(self, command: str, *, parmrk: bool, status: bool, startup_grace: float = 2.0):
+        if not command.strip():
+            raise TransportError(f"{self.kind}: needs a command, e.g. '{self.kind}:ptpcert iut --parmrk'")
+        self.command = command
+        self.url = f"{self.kind}:{command}"
+        self.parmrk = parmrk
+        caps = {RESTART}
+        if parmrk:
+            caps |= {BREAK, CHAR_ERROR}
+        if status:
+            caps.add(STATUS)
+        self.capabilities = frozenset(caps)
+        self.proc: subprocess.Popen | None = None
+        self.parser = StatusParser()
+        self._closed = False
+        self._eof = False
+        self.startup_grace = startup_grace
+
+    # -- life cycle ---------------------------------------------------------------
+    def _spawn(self, command: str, **kw) -> subprocess.Popen:
+        try:
+            proc = subprocess.Popen(command, shell=True, start_new_session=True,
+                                    stderr=subprocess.PIPE, bufsize=0, **kw)
+        except OSError as exc:
+            raise TransportError(f"{self.url}: cannot start: {exc}") from None
+        _LIVE.add(self)
+        _nonblocking(proc.stderr.fileno())
+        return proc
+
+    def open(self) -> None:
+        self.proc = self._spawn(self.command, stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+        self.fd_out = self.proc.stdin.fileno()
+        self.fd_in = self.proc.stdout.fileno()
+        _nonblocking(self.fd_in)
+
+    def now(self) -> float:
+        return time.monotonic()
+
+    def _check_startup_failure(self) -> None:
+        """A command that cannot even start (not found, bad options) is a configuration
+        fault of the run, not a verdict on the IUT."""
+        rc = self.proc.poll()
+        if rc is not None and rc in (126, 127, 2) and self.now() - self._t_open < self.startup_grace:
+            self._drain_stderr()
+            tail = self.parser.tail(800).strip()
+            raise TransportError(f"{self.url}: the command exited with status {rc} at start-up"
+                                 + (f": {tail}" if tail else ""))
+
+    # -- line -----------------------------------------------------------------------
+    def _encode(self, data: bytes) -> bytes:
+        return data.replace(b"\xff", b"\xff\xff") if self.parmrk else data
+
+    def _write_raw(self, data: bytes) -> float:
+        t = self.now()
+        try:
+            view = memoryview(data)
+            while view:
+                try:
+                    n = os.write(self.fd_out, view)
+                    view = view[n:]
+                except BlockingIOError:
+                    select.select([], [self.fd_out], [], 0.05)
+        except (BrokenPipeError, OSError) as exc:
+            if isinstance(exc, OSError) and exc.errno not in (errno.EPIPE, errno.EIO, errno.EBADF):
+                raise
+            self._died()
+        return t
+
+    def write(self, data: bytes) -> float:
+        return self._write_raw(self._encode(data))
+
+    def send_break(self, duration: float) -> float:
+        if not self.parmrk:
+            raise TransportError(f"{self.url}: BREAK needs an IUT that reads PARMRK marking")
+        return self._write_raw(b"\xff\x00\x00")
+
+    def send_char_error(self, byte: int) -> float:
+        if not self.parmrk:
+            raise TransportError(f"{self.url}: character errors need an IUT that reads PARMRK marking")
+        if byte == 0:
+            byte = 0x80  # FF 00 00 would read as BREAK; a corrupted 00 is shown with bit 7 set
+        return self._write_raw(bytes([0xFF, 0x00, byte]))
+
+    def read(self, deadline: float) -> list[tuple[float, int]]:
+        if self._eof:
+            self._died()
+        fds = [self.fd_in, self.proc.stderr.fileno()]
+        while True:
+            timeout = max(0.0, deadline - self.now())
+            try:
+                r, _, _ = select.select(fds, [], [], timeout)
+            except InterruptedError:
+                continue
+            t = self.now()
+            out: list[tuple[float, int]] = []
+            if self.proc.stderr.fileno() in r:
+                self._drain_stderr(t)
+            if self.fd_in in r:
+                try:
+                    data = os.read(self.fd_in, 65536)
+                except BlockingIOError:
+                    data = None
+                except OSError as exc:
+                    if exc.errno != errno.EIO:
+                        raise
+                    data = b""
+                if data == b"":
+                    self._eof = True
+                    if out:
+                        return out
+                    self._died()
+                if data:
+                    out = [(t, b) for b in data]
+            if out:
+                return out
+            if self.now() >= deadline:
+                if self.proc.poll() is not None:
+                    self._died()
+                return []
+
+    def _drain_stderr(self, t: float | None = None) -> None:
+        t = self.now() if t is None else t
+        while True:
+            try:
+                chunk = os.read(self.proc.stderr.fileno(), 65536)
+            except (BlockingIOError, OSError):
+                return
+            if not chunk:
+                return
+            self.parser.feed(t, chunk)
+
+    def _died(self) -> None:
+        try:
+            self.proc.wait(timeout=0.5)
+        except subprocess.TimeoutExpired:
+            pass
+        self._drain_stderr()
+        self._check_startup_failure()
+        raise IUTDied(self.proc.poll(), self.parser.tail())
+
+    def status_reports(self) -> list[tuple[float, int]]:
+        if self.proc is not None and not self._closed:
+            self._drain_stderr()
+        return self.parser.drain()
+
+    def close(self) -> CloseInfo:
+        info = CloseInfo()
+        if self.proc is None or self._closed:
+            return info
+        self._closed = True
+        proc = self.proc
+        self._close_line()
+        try:
+            proc.wait(timeout=0.2)
+        except subprocess.TimeoutExpired:
+            info.killed = True
+            for sig, wait in ((signal.SIGTERM, 0.5), (signal.SIGKILL, 2.0)):
+                try:
+                    os.killpg(proc.pid, sig)
+                except ProcessLookupError:
+                    break
+                try:
+                    proc.wait(timeout=wait)
+                    break
+                except subprocess.TimeoutExpired:
+                    continue
+        else:
+            try:  # the IUT exited; make sure nothing of its group stays behind
+                os.killpg(proc.pid, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                pass
+        self._drain_stderr()
+        try:
+            proc.stderr.close()
+        except OSError:
+            pass
+        info.returncode = proc.returncode
+        info.stderr = self.parser.tail()
+        _LIVE.discard(self)
+        return info
+
+    def _close_line(self) -> None:
+        for f in (self.proc.stdin, self.proc.stdout):
+            try:
+                f.close()
+            except OSError:
+                pass
+
+    def describe(self) -> str:
+        return self.url
+
+
+class ExecTransport(ProcessTransport):
+    kind = "exec"
+
+    def open(self) -> None:
+        self._t_open = self.now()
+        super().open()
+
+
+class PtyTransport(ProcessTransport):
+    kind = "pty"
+
+    def open(self) -> None:
+        self._t_open = self.now()
+        master, slave = os.openpty()
+        tty.setraw(slave)
+        self.master, self.slave = master, slave
+        self.device = os.ttyname(slave)
+        if "{port}" not in self.command:
+            os.close(master)
+            os.close(slave)
+            raise TransportError(f"{self.url}: the command must contain {{port}}, replaced by the pty device")
+        self.proc = self._spawn(self.command.replace("{port}", self.device),
+                                stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
+        _nonblocking(master)
+        self.fd_in = self.fd_out = master
+
+    def read(self, deadline: float) -> list[tuple[float, int]]:
+        # the pty stays open while the harness holds the slave, so also watch the process
+        out = super().read(min(deadline, self.now() + 0.25))
+        while not out and self.now() < deadline:
+            if self.proc.poll() is not None:
+                self._died()
+            out = super().read(min(deadline, self.now() + 0.25))
+        return out
+
+    def _close_line(self) -> None:
+        for fd in (self.master, self.slave):
+            try:
+                os.close(fd)
+            except OSError:
+                pass
