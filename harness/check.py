@@ -13,6 +13,7 @@ from . import results as R
 from .model import Params3964
 from .runner import RunOptions, Runner
 from .scenario import Vector
+from .transport import Factory
 from .transport.sim import SimTransport
 
 
@@ -27,13 +28,13 @@ class CheckOutcome:
         return self.result.verdict in (R.PASS, R.NON_STRICT, R.INFORMATIONAL)
 
 
-def sim_factory(app: str, buffer_free: bool, station_factory=None):
+def sim_factory(app: str, buffer_free: bool, station_factory=None) -> Factory:
     def make(v: Vector, params: Params3964):
         tester = (v.tester_params or params)
         return SimTransport(params, app=app, buffer_free=buffer_free, station_factory=station_factory,
                             url=f"sim:?app={app}" + ("" if buffer_free else "&buffer=full"),
                             tester_char=tester.char_time)
-    return make
+    return Factory(make, SimTransport.capabilities, virtual=True)
 
 
 def check_vector(v: Vector, station_factory=None) -> list[CheckOutcome]:

@@ -118,7 +118,7 @@ def cmd_run(args) -> int:
         print("ptpcert run: no case matches " + " ".join(args.select or []), file=sys.stderr)
         return 2
     try:
-        factory, shutdown = make_factory(args.iut, profile)
+        factory = make_factory(args.iut, profile)
         preflight(args.iut, factory, cases[0], profile)
     except TransportError as exc:
         print(f"ptpcert run: {exc}", file=sys.stderr)
@@ -140,7 +140,7 @@ def cmd_run(args) -> int:
         runner.run(cases, result, progress)
     finally:
         signal.signal(signal.SIGTERM, old)
-        shutdown()
+        factory.shutdown()
         result.finished = _now()
         write_reports(result, args)
     print(rep.summary(result))
@@ -169,9 +169,9 @@ def preflight(url: str, factory, case, profile) -> None:
     be opened, is a usage error (exit 2), not 50 failed cases."""
     from .transport import IUTDied, RESTART, TransportError
 
-    tr = factory(case, profile.params)
-    if RESTART not in tr.capabilities or tr.virtual:
+    if RESTART not in factory.capabilities or factory.virtual:
         return
+    tr = factory(case, profile.params)
     try:
         tr.open()
         tr.read(tr.now() + 1.0)

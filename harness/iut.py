@@ -16,7 +16,7 @@ import time
 
 from .model import Host, Params3964, Station3964
 from .model.events import Delivered, SendDone, SendFailed, Status
-from .runner import Endpoint, drive_station
+from .driver import Endpoint, drive_station
 
 
 class ParmrkDecoder:

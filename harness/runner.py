@@ -17,6 +17,7 @@ from .model import Host, Params3964, Station3964, codec
 from .model.events import Delivered, status_text
 from .profile import Profile
 from .scenario import Expr, Step, Vector, expand, timer_env
+from .driver import Endpoint, drive_station
 from .transport.base import (BREAK, CHAR_ERROR, RESTART, STATUS, IUTDied, Transport,
                              TransportError)
 
@@ -82,65 +83,6 @@ class RunOptions:
     check_status: bool = True         # compare reported STATUS events (profile status_from_stderr)
     check_model_events: bool = False  # sim: also check deliveries and completed jobs
     virtual: bool = False
-
-
-# ------------------------------------------------------------------ driving a model station
-
-
-class Endpoint:
-    """What a model station driven in real (or virtual) time talks through."""
-
-    def now(self) -> float:
-        raise NotImplementedError
-
-    def poll(self, deadline: float) -> list[tuple[float, str, int]]:
-        """Wait until input arrives or ``deadline``; return (time, kind, value) items,
-        kind being "byte", "invalid" (a character with a parity/framing error) or "break".
-        Raises EOFError when the input has ended."""
-        raise NotImplementedError
-
-    def write(self, data: bytes) -> float:
-        raise NotImplementedError
-
-
-def drive_station(host, ep: Endpoint, *, stop: Callable[[], bool] | None = None,
-                  on_event: Callable | None = None, until: float = float("inf")) -> None:
-    """Run a model station (with its application) against an endpoint until ``stop()``
-    says so, ``until`` is reached, or the input ends. Inputs of an instant are delivered
-    before the deadlines of that instant (the station's ordering rule). Each byte is written
-    when its transmission is complete (start + one character time), which is when a UART on
-    the other side would hand it over; so the station's pacing is kept and a pipe behaves
-    like a line."""
-    st = host.station
-    char = st.params.char_time
-    pending: list[tuple[float, int]] = []   # started on the line, not yet complete
-    while True:
-        now = ep.now()
-        pending += st.pop_output(now)
-        # a character reaches the other side when its stop bit is out
-        while pending and pending[0][0] + char <= now:
-            ep.write(bytes([pending.pop(0)[1]]))
-        for e in host.drain():
-            if on_event is not None:
-                on_event(e)
-        if (stop is not None and stop() and not pending) or now >= until:
-            return
-        d = st.next_deadline()
-        wake = until if d is None else min(d, until)
-        if pending:
-            wake = min(wake, pending[0][0] + char)
-        for t, kind, value in ep.poll(wake):
-            t = max(t, st.now)
-            if kind == "byte":
-                st.receive(t, value)
-            elif kind == "invalid":
-                st.receive_invalid(t, value)
-            else:
-                st.line_break(t)
-        now = ep.now()
-        d = st.next_deadline()
-        if d is not None and d <= now:
-            st.handle_timer(now)
 
 
 # ------------------------------------------------------------------ the case driver
@@ -483,11 +425,8 @@ class RunnerState:
 # ------------------------------------------------------------------ the runner
 
 
-TransportFactory = Callable[[Vector, Params3964], Transport]
-
-
 class Runner:
-    def __init__(self, factory: TransportFactory, profile: Profile | None = None,
+    def __init__(self, factory, profile: Profile | None = None,
                  options: RunOptions | None = None):
         self.factory = factory
         self.profile = profile
@@ -538,12 +477,7 @@ class Runner:
         steps = expand(replace(v, params=params))
         res.steps = [{"kind": s.kind, "data": codec.hexstr(s.data), **s.to_toml()} for s in steps]
         wall0 = time.monotonic()
-        try:
-            tr = self.factory(v, params)
-        except TransportError as exc:
-            res.verdict, res.message = R.ERROR, str(exc)
-            return res
-        reason = self.unsupported_reason(v, tr.capabilities)
+        reason = self.unsupported_reason(v, self.factory.capabilities)
         if reason:
             res.verdict, res.message = R.UNSUPPORTED, reason
             return res
@@ -573,7 +507,11 @@ class Runner:
     def _attempt(self, v: Vector, steps, params: Params3964, res: R.CaseResult) -> str:
         """Run once; fill ``res``; return "ok", "timing" (voided) or "late" (failed by
         lateness only)."""
-        tr = self.factory(v, params)
+        try:
+            tr = self.factory(v, params)
+        except TransportError as exc:
+            res.verdict, res.message = R.ERROR, f"transport: {exc}"
+            return "ok"
         tol = self.opts.tolerance or (VIRTUAL if tr.virtual else realtime_tolerance(params, self.opts.late_ms))
         tester = v.tester_params.with_(cdt_ms=params.cdt_ms, adt_ms=params.adt_ms) if v.tester_params else None
         outcome = "ok"

@@ -69,7 +69,8 @@ class ProcessTransport(Transport):
     # -- life cycle ---------------------------------------------------------------
     def _spawn(self, command: str, **kw) -> subprocess.Popen:
         try:
-            proc = subprocess.Popen(command, shell=True, start_new_session=True,
+            # "exec" lets the shell turn into the IUT, so that the pid is the IUT's own
+            proc = subprocess.Popen("exec " + command, shell=True, start_new_session=True,
                                     stderr=subprocess.PIPE, bufsize=0, **kw)
         except OSError as exc:
             raise TransportError(f"{self.url}: cannot start: {exc}") from None
@@ -78,6 +79,8 @@ class ProcessTransport(Transport):
         return proc
 
     def open(self) -> None:
+        if self.proc is not None:
+            return  # started ahead of time
         self.proc = self._spawn(self.command, stdin=subprocess.PIPE, stdout=subprocess.PIPE)
         self.fd_out = self.proc.stdin.fileno()
         self.fd_in = self.proc.stdout.fileno()
@@ -204,21 +207,20 @@ class ProcessTransport(Transport):
             proc.wait(timeout=0.2)
         except subprocess.TimeoutExpired:
             info.killed = True
-            for sig, wait in ((signal.SIGTERM, 0.5), (signal.SIGKILL, 2.0)):
-                try:
-                    os.killpg(proc.pid, sig)
-                except ProcessLookupError:
-                    break
-                try:
-                    proc.wait(timeout=wait)
-                    break
-                except subprocess.TimeoutExpired:
-                    continue
-        else:
-            try:  # the IUT exited; make sure nothing of its group stays behind
-                os.killpg(proc.pid, signal.SIGKILL)
-            except (ProcessLookupError, PermissionError):
+            try:
+                os.killpg(proc.pid, signal.SIGTERM)
+                proc.wait(timeout=0.5)
+            except (ProcessLookupError, subprocess.TimeoutExpired):
                 pass
+        # Whatever happened to the leader, no member of the IUT's process group survives.
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except (ProcessLookupError, PermissionError):
+            pass
+        try:
+            proc.wait(timeout=2.0)
+        except subprocess.TimeoutExpired:
+            info.notes.append(f"the IUT process {proc.pid} did not end after SIGKILL")
         self._drain_stderr()
         try:
             proc.stderr.close()
@@ -244,7 +246,8 @@ class ExecTransport(ProcessTransport):
     kind = "exec"
 
     def open(self) -> None:
-        self._t_open = self.now()
+        if self.proc is None:
+            self._t_open = self.now()
         super().open()
 
 
@@ -252,6 +255,8 @@ class PtyTransport(ProcessTransport):
     kind = "pty"
 
     def open(self) -> None:
+        if self.proc is not None:
+            return  # started ahead of time
         self._t_open = self.now()
         master, slave = os.openpty()
         tty.setraw(slave)

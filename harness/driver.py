@@ -1,0 +1,67 @@
+"""Driving a model station in real (or virtual) time: the one loop that runs the reference
+model against a line. ``ptpcert iut`` runs it on stdin/stdout or a serial port; the runner
+runs it in the tester's seat where a vector lets the tester act as a conforming partner.
+Kept free of the harness's heavier modules so that the IUT process starts fast.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+
+class Endpoint:
+    """What a model station driven in real (or virtual) time talks through."""
+
+    def now(self) -> float:
+        raise NotImplementedError
+
+    def poll(self, deadline: float) -> list[tuple[float, str, int]]:
+        """Wait until input arrives or ``deadline``; return (time, kind, value) items,
+        kind being "byte", "invalid" (a character with a parity/framing error) or "break".
+        Raises EOFError when the input has ended."""
+        raise NotImplementedError
+
+    def write(self, data: bytes) -> float:
+        raise NotImplementedError
+
+
+def drive_station(host, ep: Endpoint, *, stop: Callable[[], bool] | None = None,
+                  on_event: Callable | None = None, until: float = float("inf")) -> None:
+    """Run a model station (with its application) against an endpoint until ``stop()``
+    says so, ``until`` is reached, or the input ends. Inputs of an instant are delivered
+    before the deadlines of that instant (the station's ordering rule). Each byte is written
+    when its transmission is complete (start + one character time), which is when a UART on
+    the other side would hand it over; so the station's pacing is kept and a pipe behaves
+    like a line."""
+    st = host.station
+    char = st.params.char_time
+    pending: list[tuple[float, int]] = []   # started on the line, not yet complete
+    while True:
+        now = ep.now()
+        pending += st.pop_output(now)
+        # a character reaches the other side when its stop bit is out
+        while pending and pending[0][0] + char <= now:
+            ep.write(bytes([pending.pop(0)[1]]))
+        for e in host.drain():
+            if on_event is not None:
+                on_event(e)
+        if (stop is not None and stop() and not pending) or now >= until:
+            return
+        d = st.next_deadline()
+        wake = until if d is None else min(d, until)
+        if pending:
+            wake = min(wake, pending[0][0] + char)
+        for t, kind, value in ep.poll(wake):
+            t = max(t, st.now)
+            if kind == "byte":
+                st.receive(t, value)
+            elif kind == "invalid":
+                st.receive_invalid(t, value)
+            else:
+                st.line_break(t)
+        now = ep.now()
+        d = st.next_deadline()
+        if d is not None and d <= now:
+            st.handle_timer(now)
+
+

@@ -1,0 +1,196 @@
+"""`ptpcert run` end to end against real processes: the bundled reference implementation
+over exec: and pty:, the independent implementation, broken ones, and IUTs that crash,
+hang or flood. Real processes run at the shortest legal timers (20 ms); the harness's
+tolerances are those of a loaded machine, and no test asserts on the host's speed."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+PY = sys.executable
+PROFILE = ROOT / "conformance" / "profiles" / "reference-20ms.toml"
+IUT = f"{PY} -m harness.cli iut --cdt-ms 20 --adt-ms 20 --parmrk"
+INDEPENDENT = f"{PY} {ROOT / 'tests' / 'independent' / 'iut3964.py'} --cdt-ms 20 --adt-ms 20 --parmrk"
+SAMPLE = ["3964R.FIG2-6.RECEIVE", "3964R.FIG2-7.PARITY", "3964R.D03.*", "3964R.D10.*",
+          "3964R.D14.*", "3964R.D21.*", "3964R.FIG2-8.CONFLICT-IUT-LOW", "3964R.D01.*"]
+
+
+def ptpcert(*args, timeout=240, **kw):
+    return subprocess.run([PY, "-m", "harness.cli", *args], cwd=ROOT, capture_output=True, text=True,
+                          timeout=timeout, **kw)
+
+
+def select(*globs):
+    out = []
+    for g in globs:
+        out += ["--select", g]
+    return out
+
+
+def run_json(tmp_path, iut, *extra, profile=PROFILE, globs=SAMPLE):
+    j, x = tmp_path / "r.json", tmp_path / "j.xml"
+    p = ptpcert("run", "--iut", iut, "--profile", str(profile), "--json", str(j), "--junit", str(x),
+                *select(*globs), *extra)
+    data = json.loads(j.read_text()) if j.exists() else None
+    return p, data, x
+
+
+def verdicts(data):
+    return {c["id"]: c["verdict"] for c in data["cases"]}
+
+
+@pytest.mark.parametrize("scheme", ["exec", "pty"])
+def test_reference_implementation_passes(tmp_path, scheme):
+    iut = f"exec:{IUT}" if scheme == "exec" else f"pty:{IUT} --port {{port}}"
+    p, data, junit = run_json(tmp_path, iut)
+    assert p.returncode == 0, p.stdout[-3000:] + p.stderr
+    v = verdicts(data)
+    assert len(v) >= 8 and set(v.values()) == {"pass"}, v
+    # the JUnit file parses and has one testcase per case, the reference in the name
+    root = ET.parse(junit).getroot()
+    cases = root.findall(".//testcase")
+    assert len(cases) == len(v)
+    assert all("[" in c.get("name") and "§" in c.get("name") for c in cases)
+    # STATUS events were reported and compared
+    d10 = next(c for c in data["cases"] if c["id"].startswith("3964R.D10"))
+    assert d10["status_checked"] and "16#0709" in d10["observed_status"]
+    # progress lines and a summary
+    assert "[1/" in p.stdout and "overall PASS" in p.stdout
+
+
+def test_independent_correct_implementation_passes(tmp_path):
+    p, data, _ = run_json(tmp_path, f"exec:{INDEPENDENT}", globs=["3964R.*"], profile=PROFILE)
+    assert p.returncode == 0, p.stdout[-3000:]
+    assert "fail" not in verdicts(data).values()
+
+
+@pytest.mark.parametrize("variant,caught", [
+    ("bcc-not-checked", "3964R.BCC.NEG-STX"),
+    ("no-dle-doubling", "3964R.FIG2-5.SEND"),
+    ("setup-attempts-plus-one", "3964R.D10.SETUP-TIMEOUT"),
+    ("parity-nak-immediate", "3964R.FIG2-7.PARITY"),
+])
+def test_independent_broken_implementation_fails_with_the_right_case(tmp_path, variant, caught):
+    p, data, _ = run_json(tmp_path, f"exec:{INDEPENDENT} --break {variant}",
+                          globs=[caught, "3964R.D02.*", "3964R.FIG2-6.RECEIVE"])
+    assert p.returncode == 1
+    v = verdicts(data)
+    assert v[caught] == "fail"
+    assert v["3964R.D02.NAK-IN-IDLE"] == "pass"
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    try:  # a zombie counts as gone
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().split()[2] != "Z"
+    except OSError:
+        return False
+
+
+def test_crashing_iut_fails_the_case_and_the_run_goes_on(tmp_path):
+    p, data, _ = run_json(tmp_path, f"exec:{PY} tests/fakes/crash.py",
+                          globs=["3964R.D03.*", "3964R.D04.*"])
+    assert p.returncode == 1
+    for c in data["cases"]:
+        assert c["verdict"] == "fail"
+        assert "ended" in c["message"]
+        assert "crashing now" in c["stderr_tail"]
+
+
+def test_hanging_iut_is_killed(tmp_path):
+    pids = tmp_path / "pids"
+    t = time.monotonic()
+    p, data, _ = run_json(tmp_path, f"exec:{PY} tests/fakes/hang.py {pids}", globs=["3964R.D03.*", "3964R.D02.*"])
+    assert time.monotonic() - t < 60
+    assert verdicts(data)["3964R.D03.GARBAGE-IN-IDLE"] == "fail"
+    listed = [int(x) for x in pids.read_text().split()]
+    assert listed
+    time.sleep(0.5)
+    assert not any(_alive(pid) for pid in listed)
+
+
+def test_flooding_iut_fails_quickly(tmp_path):
+    t = time.monotonic()
+    p, data, _ = run_json(tmp_path, f"exec:{PY} tests/fakes/flood.py", globs=["3964R.D02.*", "3964R.D03.*"])
+    assert time.monotonic() - t < 60
+    assert p.returncode == 1
+    for c in data["cases"]:
+        assert c["verdict"] == "fail"
+        assert "more than" in c["message"] or "expected" in c["message"]
+
+
+def test_iut_that_never_starts_is_a_usage_error(tmp_path):
+    p = ptpcert("run", "--iut", "exec:no-such-command-xyz", "--profile", str(PROFILE))
+    assert p.returncode == 2
+    assert "exited with status 127" in p.stderr or "ended at start-up" in p.stderr
+
+
+def test_bad_profile_and_bad_url_are_usage_errors(tmp_path):
+    bad = tmp_path / "p.toml"
+    bad.write_text(PROFILE.read_text().replace('parity = "even"', 'parity = "mark"'))
+    p = ptpcert("run", "--iut", f"exec:{IUT}", "--profile", str(bad))
+    assert p.returncode == 2 and "p.toml: iut.parity" in p.stderr and '"even"' in p.stderr
+    p = ptpcert("run", "--iut", "pty:ptpcert iut", "--profile", str(PROFILE))
+    assert p.returncode == 2 and "{port}" in p.stderr
+    p = ptpcert("run", "--iut", "/dev/does-not-exist", "--profile", str(PROFILE))
+    assert p.returncode == 2 and "cannot open /dev/does-not-exist" in p.stderr
+    p = ptpcert("run", "--iut", f"exec:{IUT}", "--profile", str(PROFILE), "--select", "NOTHING*")
+    assert p.returncode == 2 and "no case matches" in p.stderr
+
+
+def test_silent_iut_fails_without_hanging(tmp_path):
+    t = time.monotonic()
+    p, data, _ = run_json(tmp_path, f"exec:{PY} tests/fakes/silent.py", globs=["3964R.D01.*", "3964R.D03.*"])
+    assert time.monotonic() - t < 60
+    assert p.returncode == 1
+    assert set(verdicts(data).values()) == {"fail"}
+
+
+def test_reports_are_written_when_interrupted(tmp_path):
+    j, x = tmp_path / "r.json", tmp_path / "j.xml"
+    proc = subprocess.Popen([PY, "-m", "harness.cli", "run", "--iut", f"exec:{IUT}", "--profile", str(PROFILE),
+                             "--json", str(j), "--junit", str(x)], cwd=ROOT, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    time.sleep(3.0)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 2, out[-2000:] + err
+    data = json.loads(j.read_text())
+    assert data["interrupted"] is True
+    v = list(verdicts(data).values())
+    assert "not-run" in v and "pass" in v
+    assert len(ET.parse(x).getroot().findall(".//testcase")) == len(v)
+    assert "INTERRUPTED" in out
+
+
+def test_sim_transport_runs_everything_in_virtual_time(tmp_path):
+    p, data, _ = run_json(tmp_path, "sim:", globs=["3964R.*"])
+    assert p.returncode == 0, p.stdout[-2000:]
+    v = verdicts(data)
+    assert v["3964R.D05.NO-FREE-BUFFER"] == "unsupported"  # the buffer is free on sim: unless asked
+    p, data, _ = run_json(tmp_path, "sim:?buffer=full", globs=["3964R.D05.*"])
+    assert verdicts(data)["3964R.D05.NO-FREE-BUFFER"] == "pass"
+
+
+def test_expected_failures_give_xfail_and_xpass(tmp_path):
+    prof = tmp_path / "p.toml"
+    prof.write_text(PROFILE.read_text() + '"3964R.D02.NAK-IN-IDLE" = "pretend bug 1"\n'
+                    '"3964R.BCC.NEG-STX" = "known: BCC not checked"\n')
+    p, data, _ = run_json(tmp_path, f"exec:{INDEPENDENT} --break bcc-not-checked", profile=prof,
+                          globs=["3964R.D02.*", "3964R.BCC.NEG-STX"])
+    v = verdicts(data)
+    assert v["3964R.BCC.NEG-STX"] == "xfail"
+    assert v["3964R.D02.NAK-IN-IDLE"] == "xpass"
+    assert p.returncode == 1  # an xpass fails the run
