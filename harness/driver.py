@@ -26,13 +26,15 @@ class Endpoint:
 
 
 def drive_station(host, ep: Endpoint, *, stop: Callable[[], bool] | None = None,
-                  on_event: Callable | None = None, until: float = float("inf")) -> None:
+                  on_event: Callable | None = None, until: float = float("inf"),
+                  recheck: Callable[[], float] | None = None) -> None:
     """Run a model station (with its application) against an endpoint until ``stop()``
     says so, ``until`` is reached, or the input ends. Inputs of an instant are delivered
     before the deadlines of that instant (the station's ordering rule). Each byte is written
     when its transmission is complete (start + one character time), which is when a UART on
     the other side would hand it over; so the station's pacing is kept and a pipe behaves
-    like a line."""
+    like a line. ``recheck()`` gives the earliest time at which ``stop()`` may turn true
+    without new input (e.g. after a quiet period), so the loop wakes up for it."""
     st = host.station
     char = st.params.char_time
     pending: list[tuple[float, int]] = []   # started on the line, not yet complete
@@ -51,6 +53,8 @@ def drive_station(host, ep: Endpoint, *, stop: Callable[[], bool] | None = None,
         wake = until if d is None else min(d, until)
         if pending:
             wake = min(wake, pending[0][0] + char)
+        if recheck is not None:
+            wake = min(wake, max(recheck(), now))
         for t, kind, value in ep.poll(wake):
             t = max(t, st.now)
             if kind == "byte":

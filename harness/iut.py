@@ -167,8 +167,9 @@ def run_iut(params: Params3964, *, parmrk: bool, port: str | None = None, mutant
     station.power_on(ep.now())
     try:
         drive_station(host, ep, on_event=on_event)
-    except EOFError:
+    except (EOFError, BrokenPipeError, KeyboardInterrupt):
         pass
-    except (BrokenPipeError, KeyboardInterrupt):
-        return 0
+    err.flush()
+    if not port:
+        os._exit(0)  # the line has ended: leave at once, without interpreter teardown
     return 0

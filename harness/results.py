@@ -60,6 +60,7 @@ class CaseResult:
     status_checked: bool = False
     transcript: list[dict[str, Any]] = field(default_factory=list)
     steps: list[dict[str, Any]] = field(default_factory=list)  # expanded steps, for reports
+    origin: float = 0.0                # the transport clock at the case's time 0 (monotonic)
     duration: float = 0.0              # wall time of the case, seconds
     case_time: float = 0.0             # time on the case's clock (virtual for sim:)
     forced_wait: float = 0.0           # time the protocol itself forces the case to take

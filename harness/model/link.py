@@ -40,6 +40,7 @@ class Link:
     wire: list[WireByte] = field(default_factory=list)
     events: list[tuple[str, Event]] = field(default_factory=list)
     max_steps_per_instant: int = 100_000
+    record_wire: bool = True
 
     def __post_init__(self) -> None:
         if self.a.name == self.b.name:
@@ -108,7 +109,7 @@ class Link:
             while self._flight and self._flight[0][0] <= t:
                 _, _, dest, kind, value = heapq.heappop(self._flight)
                 st = self.a if dest == self.a.name else self.b
-                if kind == "byte":
+                if kind == "byte" or kind == "bytes":
                     st.receive(t, value)
                 elif kind == "invalid":
                     st.receive_invalid(t, value)
@@ -140,23 +141,33 @@ class Link:
 
     def _collect(self, t: float) -> None:
         for st in (self.a, self.b):
-            out = st.pop_output(t)
-            if out:
+            runs = st.pop_output_runs(t)
+            if runs:
                 char = st.params.char_time
                 dest = self._peer[st.name].name
-                for start, byte in out:
-                    fate = DELIVER
-                    if self.hook is not None:
-                        fate = self.hook(WireByte(start, st.name, byte))
-                    self.wire.append(WireByte(start, st.name, byte, fate))
-                    if fate == DROP:
-                        continue
-                    kind = "invalid" if fate == CORRUPT else "byte"
-                    self._push(start + char, dest, kind, byte)
-                    if fate == DUPLICATE:
-                        self._push(start + 2 * char, dest, kind, byte)
-            for e in st.pop_events():
-                self.events.append((st.name, e))
+                hook = self.hook
+                if hook is None and char == 0:
+                    # no line timing and nothing to tamper with: whole runs arrive at once
+                    for start, data in runs:
+                        if self.record_wire:
+                            self.wire.extend(WireByte(start, st.name, b) for b in data)
+                        self._push(start, dest, "bytes", data)
+                    continue
+                for start, data in runs:
+                    for i, byte in enumerate(data):
+                        at = start + i * char
+                        fate = DELIVER if hook is None else hook(WireByte(at, st.name, byte))
+                        if self.record_wire:
+                            self.wire.append(WireByte(at, st.name, byte, fate))
+                        if fate == DROP:
+                            continue
+                        kind = "invalid" if fate == CORRUPT else "byte"
+                        self._push(at + char, dest, kind, byte)
+                        if fate == DUPLICATE:
+                            self._push(at + 2 * char, dest, kind, byte)
+            if st._events:
+                name = st.name
+                self.events.extend((name, e) for e in st.pop_events())
 
     # -- views -----------------------------------------------------------------------
     def transcript(self) -> list[tuple[str, bytes]]:

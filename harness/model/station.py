@@ -45,6 +45,23 @@ _END = bytes((DLE, ETX))
 _EPS = 1e-9
 
 
+def _xor(data: bytes) -> int:
+    """XOR of all bytes, folding a big integer in halves (fast for long runs)."""
+    n = len(data)
+    if n < 16:
+        x = 0
+        for b in data:
+            x ^= b
+        return x
+    v = int.from_bytes(data, "little")
+    width = n
+    while width > 1:
+        half = (width + 1) // 2
+        v = (v & ((1 << (8 * half)) - 1)) ^ (v >> (8 * half))
+        width = half
+    return v & 0xFF
+
+
 class ModelError(RuntimeError):
     """The station was driven in a way the model does not allow (a harness bug)."""
 
@@ -80,7 +97,9 @@ class Station3964:
         self._timer_at = inf
         self._timer_started = False
         # transmitter
-        self._tx: deque[tuple[float, int]] = deque()
+        # scheduled transmissions as runs: [start of the first byte, bytes]; the bytes of a
+        # run go out back to back, one character time apart
+        self._tx: deque[list] = deque()
         self._tx_free_at = -inf
         self._popped_end = -inf
         self._tx_done_at = inf
@@ -116,13 +135,23 @@ class Station3964:
         """Characters received intact, all completed at ``now``."""
         self._at(now, strict=True)
         if isinstance(data, int):
-            data = (data,)
+            data = bytes((data,))
         cls = _CLASS
-        for b in data:
-            if self.state is T.RECEIVE and b != DLE and self.trace is None:
-                self._store(b)  # fast path of TABLE[RECEIVE][STX/ETX/NAK/OTHER] = store
-                continue
+        i, n = 0, len(data)
+        fast = self.trace is None
+        while i < n:
+            if fast and self.state is T.RECEIVE:
+                # TABLE[RECEIVE][STX/ETX/NAK/OTHER] = store, for a whole run without DLE
+                j = data.find(DLE, i)
+                if j < 0:
+                    j = n
+                if j > i:
+                    self._store_run(data[i:j])
+                    i = j
+                    continue
+            b = data[i]
             self._input(cls[b], b)
+            i += 1
 
     def receive_invalid(self, now: float, value: int = 0) -> None:
         """A character with a parity, framing or overrun error (an "invalid character")."""
@@ -173,13 +202,31 @@ class Station3964:
         """Bytes whose transmission has started by ``now`` (all scheduled bytes when
         ``now`` is None), as (start time, byte) pairs, in order."""
         out = []
+        char = self._char
+        for start, data in self.pop_output_runs(now):
+            out.extend((start + i * char, b) for i, b in enumerate(data))
+        return out
+
+    def pop_output_runs(self, now: float | None = None) -> list[tuple[float, bytes]]:
+        """Like :meth:`pop_output`, as runs (start of the first byte, bytes) of characters
+        sent back to back."""
+        out = []
         tx = self._tx
         limit = inf if now is None else now + _EPS
+        char = self._char
         while tx and tx[0][0] <= limit:
-            item = tx.popleft()
-            out.append(item)
+            start, data = tx[0]
+            n = len(data) if char == 0 or limit == inf else min(len(data), int((limit - start) / char + 1e-6) + 1)
+            if n >= len(data):
+                tx.popleft()
+                out.append((start, data))
+            else:
+                out.append((start, data[:n]))
+                tx[0] = [start + n * char, data[n:]]
+                break
         if out:
-            self._popped_end = out[-1][0] + self._char
+            start, data = out[-1]
+            self._popped_end = start + len(data) * char
         return out
 
     def pop_events(self) -> list[Event]:
@@ -240,19 +287,23 @@ class Station3964:
     def _send(self, data: bytes) -> float:
         """Schedule ``data`` on the line; return when its last byte has been sent."""
         start = max(self.now, self._tx_free_at)  # A8: no guard time before any character
-        char = self._char
-        for b in data:
-            self._tx.append((start, b))
-            start += char
-        self._tx_free_at = start
-        return start
+        self._tx.append([start, bytes(data)])
+        self._tx_free_at = start + len(data) * self._char
+        return self._tx_free_at
 
     def _cancel_tx(self) -> None:
         """Stop transmitting at once: bytes not yet started are dropped."""
         tx = self._tx
-        while tx and tx[-1][0] > self.now + _EPS:
+        now, char = self.now + _EPS, self._char
+        while tx and tx[-1][0] > now:
             tx.pop()
-        self._tx_free_at = tx[-1][0] + self._char if tx else self._popped_end
+        if tx:
+            start, data = tx[-1]
+            n = len(data) if char == 0 else min(len(data), int((now - start) / char + 1e-6) + 1)
+            tx[-1] = [start, data[:n]]
+            self._tx_free_at = start + n * char
+        else:
+            self._tx_free_at = self._popped_end
         self._tx_done_at = inf
         self._end_seq_at = inf
 
@@ -386,7 +437,7 @@ class Station3964:
         stuffed = stuff(self.job.payload)
         body = stuffed + _END
         if self.params.has_bcc:
-            body += bytes((reduce(xor, stuffed, DLE ^ ETX),))
+            body += bytes((_xor(stuffed) ^ DLE ^ ETX,))
         end = self._send(body)
         n_end = 3 if self.params.has_bcc else 2
         self._end_seq_at = end - n_end * self._char
@@ -502,6 +553,18 @@ class Station3964:
             self._overflow = True
             self._note(ev.FRAME_TOO_LONG)
         self._x ^= b
+        self._timer, self._timer_at = T.T_CDT, self.now + self._cdt + self._grace
+
+    def _store_run(self, run: bytes) -> None:
+        room = MAX_BLOCK - len(self._buf)
+        if len(run) > room:
+            self._buf += run[:max(room, 0)]
+            if not self._overflow:
+                self._overflow = True
+                self._note(ev.FRAME_TOO_LONG)
+        else:
+            self._buf += run
+        self._x ^= _xor(run)
         self._timer, self._timer_at = T.T_CDT, self.now + self._cdt + self._grace
 
     def _a_store(self, v: int) -> None:

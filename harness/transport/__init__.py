@@ -34,12 +34,12 @@ class ProcessFactory(Factory):
     """Starts a fresh IUT process per case. With ``prespawn`` the next case's process is
     started while the current case runs, so its start-up overlaps the current case's waits."""
 
-    def __init__(self, cls, command: str, parmrk: bool, status: bool, prespawn: bool = True):
+    def __init__(self, cls, command: str, parmrk: bool, status: bool, prespawn: int = 2):
         self.cls, self.command, self.parmrk, self.status = cls, command, parmrk, status
         probe = cls(command, parmrk=parmrk, status=status)
         super().__init__(None, probe.capabilities)
-        self.prespawn = prespawn
-        self._next: Transport | None = None
+        self.prespawn = int(prespawn)
+        self._ready: list[Transport] = []
 
     def _started(self) -> Transport:
         t = self.cls(self.command, parmrk=self.parmrk, status=self.status)
@@ -47,22 +47,20 @@ class ProcessFactory(Factory):
         return t
 
     def __call__(self, vector, params: Params3964) -> Transport:
-        t = self._next if self._next is not None else self._started()
-        self._next = None
-        if self.prespawn:
+        t = self._ready.pop(0) if self._ready else self._started()
+        while len(self._ready) < self.prespawn:
             try:
-                self._next = self._started()
+                self._ready.append(self._started())
             except TransportError:
-                self._next = None
+                break
         return t
 
     def shutdown(self) -> None:
-        if self._next is not None:
-            self._next.close()
-            self._next = None
+        while self._ready:
+            self._ready.pop().close()
 
 
-def make_factory(url: str, profile=None, *, prespawn: bool = True) -> Factory:
+def make_factory(url: str, profile=None, *, prespawn: int = 2) -> Factory:
     """Turn an ``--iut`` URL into a :class:`Factory`."""
     url = url.strip()
     if not url:

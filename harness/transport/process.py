@@ -203,16 +203,24 @@ class ProcessTransport(Transport):
         self._closed = True
         proc = self.proc
         self._close_line()
-        try:
-            proc.wait(timeout=0.2)
-        except subprocess.TimeoutExpired:
+        # Let the IUT see the end of its input and exit by itself (flushing its stderr),
+        # briefly; then no member of its process group survives, whatever happened.
+        deadline = self.now() + 0.15
+        err = proc.stderr.fileno()
+        while proc.poll() is None and self.now() < deadline:
+            r, _, _ = select.select([err], [], [], max(0.0, min(0.01, deadline - self.now())))
+            if r:
+                self._drain_stderr()
+                try:  # stderr at EOF: the process is ending
+                    if not os.read(err, 1):
+                        proc.wait(timeout=max(0.0, deadline - self.now()))
+                        break
+                except BlockingIOError:
+                    pass
+                except (OSError, subprocess.TimeoutExpired):
+                    break
+        if proc.poll() is None:
             info.killed = True
-            try:
-                os.killpg(proc.pid, signal.SIGTERM)
-                proc.wait(timeout=0.5)
-            except (ProcessLookupError, subprocess.TimeoutExpired):
-                pass
-        # Whatever happened to the leader, no member of the IUT's process group survives.
         try:
             os.killpg(proc.pid, signal.SIGKILL)
         except (ProcessLookupError, PermissionError):

@@ -46,6 +46,15 @@ class SerialTransport(Transport):
                                               write_timeout=5)
         except (serial.SerialException, ValueError, OSError) as exc:
             raise TransportError(f"cannot open {self.url}: {exc}") from None
+        sock = getattr(self.port, "_socket", None)
+        if sock is not None:
+            # pyserial's socket:// leaves Nagle's algorithm on: with delayed ACKs a paced
+            # block then stalls for ~40 ms, longer than the shortest CDT
+            import socket
+            try:
+                sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+            except OSError:
+                pass
         try:
             self.fd = self.port.fileno()
         except Exception:
