@@ -7,7 +7,7 @@ from __future__ import annotations
 from harness.model import Params3964
 from harness.scenario import Vector
 
-GROUP_MODULES: tuple[str, ...] = ()
+GROUP_MODULES: tuple[str, ...] = ("startup", "idle", "receive", "send", "release", "conflict", "line", "timing")
 
 
 def cases(params: Params3964) -> list[Vector]:

@@ -36,6 +36,7 @@ def drive_station(host, ep: Endpoint, *, stop: Callable[[], bool] | None = None,
     like a line. ``recheck()`` gives the earliest time at which ``stop()`` may turn true
     without new input (e.g. after a quiet period), so the loop wakes up for it."""
     st = host.station
+    st.late_timers_act_now = True
     char = st.params.char_time
     pending: list[tuple[float, int]] = []   # started on the line, not yet complete
     while True:
@@ -54,7 +55,9 @@ def drive_station(host, ep: Endpoint, *, stop: Callable[[], bool] | None = None,
         if pending:
             wake = min(wake, pending[0][0] + char)
         if recheck is not None:
-            wake = min(wake, max(recheck(), now))
+            r = recheck()
+            if r > now:  # a recheck time already past would only spin
+                wake = min(wake, r)
         for t, kind, value in ep.poll(wake):
             t = max(t, st.now)
             if kind == "byte":

@@ -16,7 +16,7 @@ from . import results as R
 from .model import Host, Params3964, Station3964, codec
 from .model.events import Delivered, status_text
 from .profile import Profile
-from .scenario import Expr, Step, Vector, expand, timer_env
+from .scenario import Expr, Step, Vector, expand, timer_env, vector_hex
 from .driver import Endpoint, drive_station
 from .transport.base import (BREAK, CHAR_ERROR, RESTART, STATUS, IUTDied, Transport,
                              TransportError)
@@ -107,6 +107,7 @@ class CaseRun:
         self.notes: list[str] = []
         self.step_index = -1
         self.sent_end = self.t0
+        self.mark_time = self.t0
         self.partner_delivered: list[bytes] = []
 
     # -- helpers -----------------------------------------------------------------------
@@ -148,6 +149,8 @@ class CaseRun:
         for i, step in enumerate(self.steps):
             self.step_index = i
             getattr(self, "_" + step.kind)(step)
+            if step.mark:
+                self.mark_time = self.ref
 
     def _send_bytes(self, step: Step, data: bytes, writer: Callable[[int], float], kind: str) -> None:
         """Send characters paced as on the line: the k-th starts at ref + at + k*(CHAR+gap)
@@ -212,12 +215,14 @@ class CaseRun:
     def _expect(self, step: Step) -> None:
         if step.since == "sent":
             self.ref = self.sent_end
+        elif step.since == "mark":
+            self.ref = self.mark_time
         lo_nom, hi_nom = self.ev(step.after), self.ev(step.within)
         lo = self.ref + lo_nom - self.tol.early
         hi = self.ref + hi_nom + self.tol.late(hi_nom)
-        what = codec.hexstr(step.data)
+        what = vector_hex(step.data)
         if step.alternatives:
-            what += " (or " + " or ".join(codec.hexstr(a) for a in step.alternatives) + ")"
+            what += " (or " + " or ".join(vector_hex(a) for a in step.alternatives) + ")"
         label = f"expect {what} in [{step.after}, {step.within}]"
         self.mark("window", t0=self.rel(self.ref + lo_nom), t1=self.rel(self.ref + hi_nom), label=label)
         first = self.next_byte(hi)
@@ -387,8 +392,9 @@ class CaseRun:
             at_rest = partner.state in ("IDLE", "WAIT_REPETITION") and partner.pending_jobs == 0
             if not at_rest or partner._tx:
                 return False
-            if want is not None:
-                return len(got) >= want
+            if want is not None and len(got) >= want:
+                return True
+            # the line has gone quiet: the IUT has nothing more to send (or gave up)
             return ep.now() - ep.last >= quiet
 
         self.mark("window", t0=self.rel(self.ref), t1=self.rel(limit), label=label)
@@ -396,7 +402,7 @@ class CaseRun:
                       recheck=lambda: ep.last + quiet)
         if want is not None and len(got) < want:
             self.fail(f"{want} block(s) from the IUT",
-                      f"received {len(got)} intact block(s) before the time limit", self.tr.now())
+                      f"received {len(got)} intact block(s) before the line went quiet", self.tr.now())
         self.ref = max(self.ref, min(self.tr.now(), ep.last))
         return got
 
@@ -601,22 +607,31 @@ class Runner:
 
     # -- a whole run -----------------------------------------------------------------
     def run(self, vectors: Iterable[Vector], result: R.RunResult,
-            progress: Callable[[int, int, R.CaseResult], None] | None = None) -> R.RunResult:
+            progress: Callable[[int, int, R.CaseResult], None] | None = None,
+            max_failures: int = 0) -> R.RunResult:
         vs = list(vectors)
         t0 = time.monotonic()
+        stop_reason = ""
+        failures = 0
         try:
             for i, v in enumerate(vs):
                 c = self.run_case(v)
                 result.cases.append(c)
                 if progress:
                     progress(i + 1, len(vs), c)
+                failures += c.verdict in R.FAILING
+                if max_failures and failures >= max_failures:
+                    stop_reason = f"not run: the run stopped after {failures} failed case(s) (--max-failures)"
+                    break
         except KeyboardInterrupt:
             result.interrupted = True
-            done = {c.id for c in result.cases}
-            for v in vs:
-                if v.id not in done:
-                    result.cases.append(R.CaseResult(v.id, v.title, v.reference, v.rule, v.group, v.iut_role,
-                                                     verdict=R.NOT_RUN, message="run interrupted"))
+            stop_reason = "run interrupted"
         finally:
+            if stop_reason:
+                done = {c.id for c in result.cases}
+                for v in vs:
+                    if v.id not in done:
+                        result.cases.append(R.CaseResult(v.id, v.title, v.reference, v.rule, v.group, v.iut_role,
+                                                         verdict=R.NOT_RUN, message=stop_reason))
             result.wall_time = round(time.monotonic() - t0, 3)
         return result

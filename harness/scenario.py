@@ -112,18 +112,18 @@ ZERO = Expr("0")
 
 # ------------------------------------------------------------------ steps
 STEP_KINDS = ("send", "send_error", "break", "wait", "expect", "silence", "prime", "partner")
-SINCE = ("previous", "sent")
+SINCE = ("previous", "sent", "mark")
 GRADES = ("pass", "non-strict", "informational")
 _STEP_KEYS = {
-    "send": {"at", "gap", "note"},
-    "send_error": {"at", "note"},
-    "break": {"at", "note"},
-    "wait": {"note"},
-    "silence": {"note"},
+    "send": {"at", "gap", "note", "mark"},
+    "send_error": {"at", "note", "mark"},
+    "break": {"at", "note", "mark"},
+    "wait": {"note", "mark"},
+    "silence": {"note", "mark"},
     "prime": {"note"},
     "partner": {"note"},
     "expect": {"after", "within", "max_gap", "partial", "optional", "absent_grade", "or",
-               "or_grade", "since", "note"},
+               "or_grade", "since", "note", "mark"},
 }
 
 
@@ -151,7 +151,8 @@ class Step:
 
     The reference point of a step is the end of the previous one: after the last byte sent,
     the last byte received, or the end of a wait, silence or break. An expect step with
-    ``since = "sent"`` measures from the end of the tester's last byte instead.
+    ``since = "sent"`` measures from the end of the tester's last byte instead, and with
+    ``since = "mark"`` from the end of the last step marked ``mark = true``.
     """
 
     kind: str
@@ -168,6 +169,7 @@ class Step:
     alternatives: tuple[bytes, ...] = ()
     alt_grade: str = "pass"
     since: str = "previous"
+    mark: bool = False
     note: str = ""
 
     def to_toml(self) -> dict[str, Any]:
@@ -198,6 +200,8 @@ class Step:
                 d["or"] = [vector_hex(a) for a in self.alternatives]
                 if self.alt_grade != "pass":
                     d["or_grade"] = self.alt_grade
+        if self.mark:
+            d["mark"] = True
         if self.note:
             d["note"] = self.note
         return d
@@ -500,6 +504,10 @@ def _step(raw: Any, fld: str, err) -> Step:
     for key in ("at", "gap", "after", "within", "max_gap"):
         if key in raw:
             kw[key] = _expr(raw[key], f"{fld}.{key}", err)
+    if "mark" in raw:
+        if not isinstance(raw["mark"], bool):
+            raise err(f"{fld}.mark", "must be true or false")
+        kw["mark"] = raw["mark"]
     if kind == "expect":
         if "within" not in raw:
             raise err(f"{fld}.within", "an expect step needs a window: within = \"...\"")

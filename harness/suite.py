@@ -7,7 +7,7 @@ import fnmatch
 from pathlib import Path
 
 from .model import Params3964
-from .scenario import Vector, load_dir
+from .scenario import GROUPS, Vector, load_dir
 
 
 def load_suite(params: Params3964, vectors_dir: str | Path, *, include_suite: bool = True,
@@ -23,4 +23,11 @@ def load_suite(params: Params3964, vectors_dir: str | Path, *, include_suite: bo
         seen[v.id] = v
     if select:
         vectors = [v for v in vectors if any(fnmatch.fnmatchcase(v.id, g) for g in select)]
-    return vectors
+    return order(vectors)
+
+
+def order(vectors: list[Vector]) -> list[Vector]:
+    """The manual's order: start-up, idle, receive, send, release, repetition, conflict,
+    BREAK, character errors, timing; the suite's cases before the golden vectors of a group."""
+    rank = {g: i for i, g in enumerate(GROUPS)}
+    return sorted(vectors, key=lambda v: (rank.get(v.group, len(rank)), not v.id.startswith("SUITE."), v.id))

@@ -28,9 +28,7 @@ from __future__ import annotations
 
 from collections import deque
 from dataclasses import dataclass
-from functools import reduce
 from math import inf
-from operator import xor
 
 from . import events as ev
 from . import table as T
@@ -80,6 +78,9 @@ class Job:
 class Station3964:
     """One 3964 / 3964R endpoint. See the module docstring for the calling convention."""
 
+    #: the transition table this station follows (:mod:`.table`)
+    TABLE = T.TABLE
+
     def __init__(self, params: Params3964 | None = None, readings: Readings = READINGS,
                  *, name: str = "station", trace: bool = False):
         self.params = params or Params3964()
@@ -124,6 +125,10 @@ class Station3964:
         self._dle_etx_done_at = inf
         self._override: str | None = None
         self.trace: list[tuple] | None = [] if trace else None
+        #: A real-time driver that wakes up after a deadline sets this: the station then acts
+        #: at the time it is told (when its bytes really go out), not at the deadline, so a
+        #: late wake-up delays what follows instead of shortening the next interval.
+        self.late_timers_act_now = False
 
     # ================================================================== public API
     def power_on(self, now: float) -> None:
@@ -263,7 +268,7 @@ class Station3964:
                 due = t <= now + _EPS
             if not due:
                 break
-            self.now = max(self.now, t)
+            self.now = max(self.now, now if self.late_timers_act_now else t)
             if is_done:
                 self._tx_done_at = inf
                 self._input(T.TX_DONE)
@@ -310,7 +315,7 @@ class Station3964:
     # ================================================================== dispatch
     def _input(self, inp: str, value: int = 0) -> None:
         old = self.state
-        row = T.TABLE[old][inp]
+        row = self.TABLE[old][inp]
         if row.action is T.IMPOSSIBLE:
             raise ModelError(f"{self.name}: input {inp} cannot occur in state {old}")
         self._timer_started = False
@@ -372,7 +377,7 @@ class Station3964:
             job, self.deferred = self.deferred, None
             if self.readings.a21_conflict_counts_collided_stx:
                 job.x += 1
-                if job.x > self.params.setup_attempts:
+                if job.x > self._setup_limit():
                     self.job = job
                     self._override = T.SETUP_CHECK
                     return
@@ -410,8 +415,14 @@ class Station3964:
         self._note_send_error(ev.SETUP_TIMEOUT)
         self.job.x += 1
 
+    def _setup_limit(self) -> int:
+        return self.params.setup_attempts
+
+    def _tx_limit(self) -> int:
+        return self.params.transmission_attempts
+
     def _d_setup_check(self) -> str:
-        if self.job.x <= self.params.setup_attempts:
+        if self.job.x <= self._setup_limit():
             self._send_stx()
             return T.WAIT_SETUP_ACK
         self._send(bytes((NAK,)))
@@ -432,13 +443,18 @@ class Station3964:
     def _d_priority(self) -> str:
         return T.WAIT_SETUP_ACK if self.params.priority == "high" else T.RECEIVE_ENTRY
 
-    def _a_setup_acknowledged(self, _v: int) -> None:
-        self._stop_timer()
-        stuffed = stuff(self.job.payload)
+    def _body(self, payload: bytes) -> bytes:
+        """What follows the partner's DLE: the data with every DLE doubled, DLE ETX and, for
+        3964R, the BCC over all of it (§3, §4.1)."""
+        stuffed = stuff(payload)
         body = stuffed + _END
         if self.params.has_bcc:
             body += bytes((_xor(stuffed) ^ DLE ^ ETX,))
-        end = self._send(body)
+        return body
+
+    def _a_setup_acknowledged(self, _v: int) -> None:
+        self._stop_timer()
+        end = self._send(self._body(self.job.payload))
         n_end = 3 if self.params.has_bcc else 2
         self._end_seq_at = end - n_end * self._char
         self._tx_done_at = end
@@ -496,7 +512,7 @@ class Station3964:
     def _d_tx_check(self) -> str:
         nak_sent, self._nak_just_sent = self._nak_just_sent, False
         job = self.job
-        if job.w <= self.params.transmission_attempts:
+        if job.w <= self._tx_limit():
             if job.w == 2:
                 self._emit(Status(self.now, ev.FIRST_REPETITION, "send"))
             if self.readings.a4_reset_setup_counter_per_attempt:

@@ -1,0 +1,95 @@
+"""The kill matrix: every deliberately broken variant against the suite, with the cases that
+caught it. Prints figures; asserts nothing.
+
+    python benchmarks/kill_matrix.py                 # the mutants, in virtual time (sim:)
+    python benchmarks/kill_matrix.py --exec          # the mutants as real processes (ptpcert iut --mutant)
+    python benchmarks/kill_matrix.py --independent   # the independent implementation's broken variants
+
+Each variant runs with the profile its broken rule needs (e.g. priority high for a priority
+bug), at the shortest legal timers.
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from harness import results as R
+from harness.mutants import MUTANTS
+from harness.profile import reference_profile
+from harness.runner import RunOptions, Runner
+from harness.suite import load_suite
+from harness.transport import make_factory
+
+ROOT = Path(__file__).resolve().parent.parent
+PY = sys.executable
+INDEPENDENT = ROOT / "tests" / "independent" / "iut3964.py"
+
+
+def run(url: str, profile) -> R.RunResult:
+    cases = load_suite(profile.params, ROOT / "vectors")
+    factory = make_factory(url, profile)
+    runner = Runner(factory, profile, RunOptions(echo=profile.echo, check_status=profile.status_from_stderr))
+    res = R.RunResult(tool_version="bench", started="")
+    try:
+        runner.run(cases, res)
+    finally:
+        factory.shutdown()
+    return res
+
+
+def variants(args):
+    if args.independent:
+        names = subprocess.run([PY, str(INDEPENDENT), "--list-breaks"], capture_output=True, text=True).stdout.split("\n")
+        for line in names:
+            if line.strip():
+                name = line.split()[0]
+                prof = reference_profile(priority="high" if "prio" in name else "low")
+                url = (f"exec:{PY} {INDEPENDENT} --cdt-ms 20 --adt-ms 20 --parmrk --priority {prof.params.priority} "
+                       f"--break {name}")
+                yield name, line[len(name):].strip(), url, prof
+        return
+    for name, m in MUTANTS.items():
+        prof = reference_profile(**m.profile)
+        if args.exec:
+            url = (f"exec:{PY} -m harness.cli iut --cdt-ms 20 --adt-ms 20 --parmrk "
+                   f"--priority {prof.params.priority} --mutant {name}")
+        else:
+            url = f"sim:?mutant={name}"
+        yield name, m.rule, url, prof
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--exec", action="store_true", help="run the mutants as real processes over exec:")
+    ap.add_argument("--independent", action="store_true", help="the independent implementation's variants")
+    ap.add_argument("--only", nargs="*", help="only these variant names")
+    args = ap.parse_args()
+    t0 = time.monotonic()
+    missed = []
+    rows = []
+    for name, rule, url, prof in variants(args):
+        if args.only and name not in args.only:
+            continue
+        t = time.monotonic()
+        res = run(url, prof)
+        caught = [c.id for c in res.cases if c.verdict in (R.FAIL, R.XPASS)]
+        errors = [c.id for c in res.cases if c.verdict == R.ERROR]
+        rows.append((name, rule, caught, errors, time.monotonic() - t))
+        if not caught:
+            missed.append(name)
+        print(f"{name:<30} caught by {len(caught):>3} case(s) in {time.monotonic() - t:5.1f} s   {rule}", flush=True)
+        for cid in caught:
+            print(f"    {cid}")
+        for cid in errors:
+            print(f"    (error) {cid}")
+    print()
+    print(f"{len(rows)} variants, {len(rows) - len(missed)} caught, {len(missed)} missed"
+          + (f": {', '.join(missed)}" if missed else "") + f"; {time.monotonic() - t0:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
