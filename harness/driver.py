@@ -44,7 +44,12 @@ def drive_station(host, ep: Endpoint, *, stop: Callable[[], bool] | None = None,
         pending += st.pop_output(now)
         # a character reaches the other side when its stop bit is out
         while pending and pending[0][0] + char <= now:
-            ep.write(bytes([pending.pop(0)[1]]))
+            start, b = pending.pop(0)
+            ep.write(bytes([b]))
+            late = now - (start + char)
+            if late > 0.0005:  # woke up late: the line carries it late; keep the model in step
+                st.delay_output(late)
+                pending = [(t + late, x) for t, x in pending]
         for e in host.drain():
             if on_event is not None:
                 on_event(e)

@@ -283,6 +283,8 @@ class Vector:
     binds: tuple[str, ...] = ("procedure",)
     #: tester-side parameters when they differ from the IUT's (e.g. configuration mismatch)
     tester_params: Params3964 | None = None
+    #: the case works close to a timer's edge: a failure is confirmed by a second run
+    timing_sensitive: bool = False
 
     @property
     def needs(self) -> frozenset[str]:
@@ -315,6 +317,8 @@ class Vector:
             d["notes"] = self.notes
         if self.binds != ("procedure",):
             d["binds"] = list(self.binds)
+        if self.timing_sensitive:
+            d["timing_sensitive"] = True
         d["params"] = _params_to_toml(self.params)
         if self.tester_params is not None:
             d["tester_params"] = _params_to_toml(self.tester_params)
@@ -351,7 +355,8 @@ class VectorError(ValueError):
 
 _ID = re.compile(r"^[A-Z0-9][A-Z0-9.\-_]*$")
 _TOP_KEYS = {"id", "title", "reference", "rule", "group", "iut_role", "start", "requires",
-             "readings", "provenance", "notes", "binds", "params", "tester_params", "expected", "steps"}
+             "readings", "provenance", "notes", "binds", "params", "tester_params", "expected", "steps",
+             "timing_sensitive"}
 _EXPECTED_KEYS = {"iut_status", "iut_status_optional", "tester_status", "tester_status_optional",
                   "delivered", "sent", "echo_after"}
 
@@ -409,13 +414,15 @@ def vector_from_dict(raw: dict[str, Any], source: str = "<vector>") -> Vector:
     for key in ("provenance", "notes"):
         if key in raw and not isinstance(raw[key], str):
             raise err(key, "must be a string")
+    if not isinstance(raw.get("timing_sensitive", False), bool):
+        raise err("timing_sensitive", "must be true or false")
     return Vector(
         id=raw["id"], title=raw["title"].strip(), reference=raw["reference"].strip(),
         rule=raw["rule"].strip(), group=raw["group"], iut_role=raw["iut_role"], params=params,
         steps=steps, expected=expected, start=start, requires=frozenset(requires),
         readings=tuple(readings), provenance=raw.get("provenance", ""),
         notes=raw.get("notes", "").strip(), source=source, binds=tuple(binds),
-        tester_params=tester_params,
+        tester_params=tester_params, timing_sensitive=raw.get("timing_sensitive", False),
     )
 
 
@@ -457,6 +464,15 @@ def vector_hex(data: bytes) -> str:
         parts.append(f"{data[i]:02X}*{n}" if n >= 8 else " ".join([f"{data[i]:02X}"] * n))
         i = j
     return " ".join(parts)
+
+
+def brief_hex(data: bytes, limit: int = 24) -> str:
+    """Bytes for messages: as :func:`vector_hex`, long ones cut to their head and tail."""
+    text = vector_hex(data)
+    toks = text.split()
+    if len(toks) <= limit:
+        return text
+    return " ".join(toks[: limit - 6]) + " … " + " ".join(toks[-4:]) + f" ({len(data)} bytes)"
 
 
 def _hex(value: Any, fld: str, err) -> bytes:

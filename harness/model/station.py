@@ -97,6 +97,7 @@ class Station3964:
         self._timer: str | None = None
         self._timer_at = inf
         self._timer_started = False
+        self._timer_from_tx = False
         # transmitter
         # scheduled transmissions as runs: [start of the first byte, bytes]; the bytes of a
         # run go out back to back, one character time apart
@@ -278,6 +279,8 @@ class Station3964:
         self.now = max(self.now, now)
 
     def _start_timer(self, name: str, duration: float, since: float | None = None) -> None:
+        # a timer measured from the end of our own transmission moves with it (delay_output)
+        self._timer_from_tx = since is not None
         since = self.now if since is None else since
         grace = 0.0 if name is T.T_NAKTIM else self._grace
         self._timer, self._timer_at = name, since + duration + grace
@@ -287,6 +290,24 @@ class Station3964:
 
     def _stop_timer(self) -> None:
         self._timer, self._timer_at = None, inf
+
+    def delay_output(self, delta: float) -> None:
+        """The line took ``delta`` seconds longer than scheduled to carry what the station
+        sent (a real-time driver that wrote late): what is still scheduled, the end of the
+        transmission, and any timer measured from it move by ``delta``, as they would with a
+        UART that started late."""
+        if delta <= 0:
+            return
+        for run in self._tx:
+            run[0] += delta
+        self._tx_free_at += delta
+        self._popped_end += delta
+        if self._tx_done_at != inf:
+            self._tx_done_at += delta
+            self._end_seq_at += delta
+            self._dle_etx_done_at += delta
+        if self._timer is not None and self._timer_from_tx:
+            self._timer_at += delta
 
     # ================================================================== transmitter
     def _send(self, data: bytes) -> float:
