@@ -28,6 +28,8 @@ def add_commands(sub) -> None:
                    help="how late a reply may be beyond its window, plus 25%% of the window (default 50)")
     r.add_argument("--startup-timeout", type=float, default=2.0,
                    help="seconds a freshly started IUT may take before its start-up NAK (default 2)")
+    r.add_argument("--max-failures", type=int, default=0, metavar="N",
+                   help="stop after N failed cases (the rest are reported as not run)")
     r.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     r.set_defaults(func=cmd_run)
 
@@ -53,6 +55,24 @@ def add_commands(sub) -> None:
     i.add_argument("--list-mutants", action="store_true", help="list the broken variants and exit")
     i.add_argument("-v", "--verbose", action="store_true", help="also log deliveries and job results on stderr")
     i.set_defaults(func=cmd_iut)
+
+    f = sub.add_parser("fuzz", help="fuzz an IUT with generated partner behaviour, the model as oracle",
+                       description="Generate partner behaviour (hypothesis), predict a conforming IUT's answers "
+                                   "with the reference model, and report every divergence as a shrunk "
+                                   "transcript, saved as a vector. Exit status: 0 nothing found, 1 findings, "
+                                   "2 bad usage or a harness error.")
+    f.add_argument("--iut", required=True, metavar="URL", help="as for 'ptpcert run'")
+    f.add_argument("--profile", required=True, metavar="FILE", help="the IUT profile (TOML)")
+    f.add_argument("--budget", type=float, default=60.0, metavar="SECONDS", help="time budget (default 60)")
+    f.add_argument("--seed", type=int, default=None, help="seed (printed, so any run can be replayed)")
+    f.add_argument("--export", metavar="DIR", default=None,
+                   help="where findings are written as vectors (default: the project's vectors/regressions/)")
+    f.add_argument("--settings", choices=["ptpcert-quick", "ptpcert-thorough"], default="ptpcert-quick",
+                   help="hypothesis settings profile (both extend hypothesis's 'ci' profile)")
+    f.add_argument("--database", metavar="DIR",
+                   help="hypothesis example database, to share a campaign between runs or machines")
+    f.add_argument("--max-actions", type=int, default=6, help="tester actions per example (default 6)")
+    f.set_defaults(func=cmd_fuzz)
 
     rep = sub.add_parser("report", help="render a saved results object (JSON) as HTML or JUnit")
     rep.add_argument("results", metavar="RESULTS.json")
@@ -137,7 +157,7 @@ def cmd_run(args) -> int:
 
     old = signal.signal(signal.SIGTERM, _interrupt)
     try:
-        runner.run(cases, result, progress)
+        runner.run(cases, result, progress, max_failures=args.max_failures)
     finally:
         signal.signal(signal.SIGTERM, old)
         factory.shutdown()
@@ -180,6 +200,65 @@ def preflight(url: str, factory, case, profile) -> None:
                              + (f": {exc.stderr_tail.strip()[-600:]}" if exc.stderr_tail.strip() else "")) from None
     finally:
         tr.close()
+
+
+def cmd_fuzz(args) -> int:
+    import random
+    import time
+
+    from .fuzz import Campaign, export
+    from .paths import default_vectors_dir
+    from .profile import ProfileError, load_profile
+    from .runner import RunOptions, Runner
+    from .transport import TransportError, make_factory
+    from .suite import load_suite
+
+    try:
+        profile = load_profile(args.profile)
+    except ProfileError as exc:
+        print(f"ptpcert fuzz: bad profile: {exc}", file=sys.stderr)
+        return 2
+    if args.budget <= 0:
+        print("ptpcert fuzz: --budget must be positive", file=sys.stderr)
+        return 2
+    seed = args.seed if args.seed is not None else random.SystemRandom().randrange(1, 2**31)
+    try:
+        factory = make_factory(args.iut, profile)
+        probe = load_suite(profile.params, default_vectors_dir(), include_suite=True,
+                           select=["SUITE.IDLE.NAK-IGNORED"])
+        if probe:
+            preflight(args.iut, factory, probe[0], profile)
+    except TransportError as exc:
+        print(f"ptpcert fuzz: {exc}", file=sys.stderr)
+        return 2
+    out_dir = args.export or str(default_vectors_dir() / "regressions")
+    print(f"ptpcert fuzz {__version__}: iut {args.iut}, profile {args.profile}")
+    print(f"seed {seed}, settings {args.settings}, budget {args.budget:.0f} s"
+          + (f", database {args.database}" if args.database else ""))
+    print(f"replay: ptpcert fuzz --iut '{args.iut}' --profile {args.profile} --seed {seed} "
+          f"--settings {args.settings} --budget {args.budget:.0f}", flush=True)
+    runner = Runner(factory, profile, RunOptions(check_status=False, late_ms=50.0))
+    camp = Campaign(profile, runner, args.budget, seed, args.settings, args.database,
+                    progress=lambda line: print(line, flush=True), max_actions=args.max_actions)
+    old = signal.signal(signal.SIGTERM, _interrupt)
+    interrupted = False
+    try:
+        camp.run()
+    except KeyboardInterrupt:
+        interrupted = True
+    finally:
+        signal.signal(signal.SIGTERM, old)
+        factory.shutdown()
+    paths = export(camp.findings, out_dir) if camp.findings else []
+    elapsed = time.monotonic() - camp.started
+    print(f"\n{camp.examples} examples in {elapsed:.1f} s ({camp.examples / max(elapsed, 1e-9):.1f}/s), "
+          f"{len(camp.findings)} finding(s), {camp.informational} divergence(s) explained by another reading"
+          + (", INTERRUPTED" if interrupted else ""))
+    for p in paths:
+        print(f"  written: {p}")
+    if interrupted:
+        return 2
+    return 1 if camp.findings else 0
 
 
 def cmd_report(args) -> int:

@@ -82,7 +82,7 @@ class Station3964:
     TABLE = T.TABLE
 
     def __init__(self, params: Params3964 | None = None, readings: Readings = READINGS,
-                 *, name: str = "station", trace: bool = False):
+                 *, name: str = "station", trace: bool = False, explain: bool = False):
         self.params = params or Params3964()
         self.readings = readings
         self.name = name
@@ -130,6 +130,11 @@ class Station3964:
         #: at the time it is told (when its bytes really go out), not at the deadline, so a
         #: late wake-up delays what follows instead of shortening the next interval.
         self.late_timers_act_now = False
+        #: With ``explain=True`` the station records why it sends what it sends: one entry
+        #: per transmission, [start, end, input, actions] (the table row's action and the
+        #: decisions taken), for tools that explain a transcript (the fuzzer, reports).
+        self.tx_log: list[list] | None = [] if explain else None
+        self._why: tuple[str, list[str]] = ("", [])
 
     # ================================================================== public API
     def power_on(self, now: float) -> None:
@@ -315,6 +320,8 @@ class Station3964:
         start = max(self.now, self._tx_free_at)  # A8: no guard time before any character
         self._tx.append([start, bytes(data)])
         self._tx_free_at = start + len(data) * self._char
+        if self.tx_log is not None:
+            self.tx_log.append([start, self._tx_free_at, self._why[0], list(self._why[1])])
         return self._tx_free_at
 
     def _cancel_tx(self) -> None:
@@ -330,6 +337,11 @@ class Station3964:
             self._tx_free_at = start + n * char
         else:
             self._tx_free_at = self._popped_end
+        if self.tx_log:
+            for entry in reversed(self.tx_log):
+                if entry[1] <= self._tx_free_at:
+                    break
+                entry[1] = max(entry[0], self._tx_free_at)
         self._tx_done_at = inf
         self._end_seq_at = inf
 
@@ -341,9 +353,13 @@ class Station3964:
             raise ModelError(f"{self.name}: input {inp} cannot occur in state {old}")
         self._timer_started = False
         self._override = None
+        if self.tx_log is not None:
+            self._why = (inp, [row.action])
         getattr(self, "_a_" + row.action)(value)
         target = self._override or row.target
         while target in T.DECISION_TARGETS:
+            if self.tx_log is not None:
+                self._why[1].append(target)
             target = getattr(self, "_d_" + target.lower())()
         new = old if target is T.SAME else target
         if self.trace is not None:

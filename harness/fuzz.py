@@ -1,0 +1,734 @@
+"""The fuzzer, level 2: generated partner behaviour against an IUT, the model as oracle.
+
+For every example, hypothesis draws the tester's behaviour step by step while a model
+station plays the IUT in virtual time (co-simulation): what the tester does next depends on
+what a conforming IUT has just done (answer its STX with DLE, NAK, another character, a
+crossing STX or silence; interrupt its block; send blocks with wrong BCCs, character
+errors, gaps over CDT...). The result is an ordinary vector: the tester's stimuli and, as
+expectations, what the model did, with windows derived from why it did it. The vector is
+run against the IUT; a divergence is a finding, confirmed by a second run, and not a
+finding when a model with another defensible reading of the manual (3964r.md §17) would
+have done what the IUT did. Hypothesis shrinks every finding to a minimal transcript,
+which is written out as a vector (``vectors/regressions/``).
+
+Timing stimuli keep a margin from every limit that a real process can honour: "just
+under" a timer is 80 % of it, "just over" 150 % plus two characters; the exact edges are
+fuzzed in virtual time by level 1 (tests/test_fuzz_model.py).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import time
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Callable
+
+from hypothesis import HealthCheck, Phase, assume, given, seed as hseed, settings, strategies as st
+from hypothesis.database import DirectoryBasedExampleDatabase
+
+from . import results as R
+from .model import Host, Params3964, Station3964, codec
+from .model import events as ev
+from .model import table as T
+from .model.readings import READINGS, Readings
+from .profile import Profile
+from .runner import RunOptions, Runner
+from .scenario import Expected, Expr, StatusSpec, Step, Vector, dump_vector
+
+# ------------------------------------------------------------------ settings profiles
+#: Settings profiles for both levels; they extend hypothesis's built-in "ci" profile.
+_CI = settings.get_profile("ci")
+settings.register_profile("ptpcert-quick", parent=_CI, max_examples=60, stateful_step_count=40,
+                          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
+                                                 HealthCheck.filter_too_much])
+settings.register_profile("ptpcert-thorough", parent=_CI, derandomize=False, max_examples=2000,
+                          stateful_step_count=120,
+                          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
+                                                 HealthCheck.filter_too_much])
+FUZZ_PROFILES = ("ptpcert-quick", "ptpcert-thorough")
+
+
+# ------------------------------------------------------------------ rules the expectations stand for
+_SETUP_FAIL = ("setup_refused", "setup_timeout", "setup_invalid_character")
+_TX_FAIL = ("send_refused", "release_refused", "release_timeout", "release_invalid_character",
+            "dle_during_send", "abort_nak")
+_RX_END = ("bcc_received", "end_of_text", "character_timeout", "bcc_invalid_character")
+_RESUME = ("release_acknowledged", "repetition_timeout", "partner_gave_up", "abandon_reception", "abort_job",
+           "no_buffer", "quiet_nak", "report_break", "bcc_received", "end_of_text")
+BLOCK_RULE = "§7.2 item 1: after the partner's DLE the block: data with each DLE doubled, DLE ETX [BCC]"
+
+
+def rule_for(actions: list[str], byte: int) -> str:
+    """The manual's rule that makes a conforming station send ``byte`` after running
+    ``actions`` (table rows, newest last)."""
+    last = actions[-1] if actions else ""
+    if "setup_acknowledged" in actions:
+        return BLOCK_RULE
+    if "send_startup_nak" in actions:
+        return "§6: one NAK at start-up"
+    if byte == 0x10:
+        if last in ("begin_reception", "repetition_begins") or "begin_reception" in actions[-2:]:
+            return "§8.2 item 1: STX is answered with DLE"
+        if "initialization_conflict" in actions:
+            return "§9 item 3: a low-priority station defers and answers the partner's STX with DLE"
+        if "buffer_freed" in actions:
+            return "§8.2 item 2: DLE as soon as a receive buffer is free"
+        if any(a in _RX_END for a in actions):
+            return "§8.4: a block received without error is acknowledged with DLE"
+    if byte == 0x15:
+        if "quiet_nak" in actions:
+            return "§8.1 item 3: a stray character is answered with NAK once the line is quiet for CDT"
+        if "abort_nak" in actions:
+            return "§7.2 item 4: after a character during its block the sender waits for CDT of quiet, then NAK"
+        if "no_buffer" in actions:
+            return "§8.2 item 2: with no free buffer the STX is answered with NAK after 400 ms"
+        if any(a in _SETUP_FAIL for a in actions):
+            return "§7.1 item 6: after the last setup attempt the sender sends NAK and gives up"
+        if any(a in _TX_FAIL for a in actions):
+            return "§7.5: after the last transmission attempt the sender sends NAK and gives up"
+        if "character_timeout" in actions:
+            return "§8.3 item 5: CDT exceeded in a reception: NAK"
+        if any(a in _RX_END for a in actions) or "dle_followed_by_other" in actions:
+            return "§8.3-8.4: a block with an error (BCC, character error, DLE sequence, length) is refused with NAK"
+    if byte == 0x02:
+        if any(a in _SETUP_FAIL for a in actions):
+            return "§7.1 items 3-5: a failed setup attempt is repeated with STX"
+        if any(a in _TX_FAIL for a in actions):
+            return "§7.3-7.4: a failed transmission attempt starts again with STX"
+        if "start_job" in actions:
+            return "§7.1 item 1: a send job starts with STX"
+        if any(a in _RESUME for a in actions):
+            return "§8.1 item 6, §9 item 3: a waiting send job starts with STX once the station is idle"
+    return "the reference model's behaviour (3964r.md §6-§10)"
+
+
+def _note(rule: str, codes) -> str:
+    return rule + (" [STATUS " + ", ".join(f"16#{c:04X}" for c in codes) + "]" if codes else "")
+
+
+# ------------------------------------------------------------------ co-simulation
+@dataclass
+class _Out:
+    t: float            # completion time of the byte (when the tester sees it)
+    byte: int
+    cause: str          # "reply" or "timer"
+    rule: str
+    codes: tuple[int, ...]
+
+
+class CoSim:
+    """A model IUT in virtual time and the vector being written while it runs."""
+
+    def __init__(self, params: Params3964, echo: bool, readings: Readings = READINGS):
+        self.p = params
+        self.char = params.char_time
+        self.st = Station3964(params, readings, name="iut", explain=True)
+        self.echo = echo
+        self.host = Host(self.st, "echo" if echo else "none")
+        self.st.power_on(0.0)
+        self.st.pop_output()
+        self.host.drain()
+
+        self.t = 0.0
+        self.ref = 0.0            # the runner's reference point
+        self.sent_end = 0.0
+        self.steps: list[Step] = []
+        self.outs: list[_Out] = []   # model output not yet turned into expectations
+        self.delivered: list[bytes] = []
+        self.sent: list[bytes] = []
+        self.codes: list[int] = []
+        self.uses_line_conditions = False
+        self.uses_echo = False
+
+    # -- running the model -------------------------------------------------------
+    def _collect(self, cause: str) -> None:
+        events = self.host.drain()
+        codes = tuple(e.code for e in events if isinstance(e, ev.Status))
+        self.codes += codes
+        for e in events:
+            if isinstance(e, ev.Delivered):
+                self.delivered.append(e.payload)
+            elif isinstance(e, ev.SendDone):
+                self.sent.append(e.payload)
+        log = self.st.tx_log
+        for start, data in self.st.pop_output_runs(self.t):   # only what has started by now
+            for i, b in enumerate(data):
+                t0 = start + i * self.char
+                why = next((x for x in reversed(log) if x[0] - 1e-12 <= t0 <= max(x[1], x[0]) + 1e-12), None)
+                inp, actions = (why[2], why[3]) if why else ("", [])
+                kind = "timer" if inp in (T.T_ADT, T.T_CDT, T.T_NAKTIM, T.T_BLOCK) else "reply"
+                self.outs.append(_Out(t0 + self.char, b, kind, rule_for(actions, b), codes if why is log[-1] else ()))
+
+    def advance(self, until: float) -> None:
+        """Run the model (no input) up to ``until``."""
+        while True:
+            d = self.st.next_deadline()
+            if d is None or d > until:
+                break
+            self.t = max(self.t, d)
+            self.st.handle_timer(self.t)
+            self._collect("timer")
+        self.t = max(self.t, until)
+
+    def _input(self, at: float, kind: str, value: int = 0) -> None:
+        self.advance(at)
+        if kind == "byte":
+            self.st.receive(at, value)
+        elif kind == "invalid":
+            self.st.receive_invalid(at, value)
+        else:
+            self.st.line_break(at)
+        self._collect("reply")
+
+    def settle(self, quiet: float | None = None, limit: float = 60.0) -> None:
+        """Run until the model has been quiet for ``quiet`` (default max(CDT, ADT) + 4 chars)."""
+        quiet = quiet if quiet is not None else max(self.p.cdt, self.p.adt) + 4 * self.char
+        end = self.t + limit
+        while self.t < end:
+            last = max([o.t for o in self.outs], default=self.ref)
+            d = self.st.next_deadline()
+            horizon = max(last, self.t) + quiet
+            if d is None or d > horizon:
+                self.advance(horizon)
+                if not self.st._tx:
+                    return
+            else:
+                self.advance(d)
+
+    # -- the tester's side --------------------------------------------------------
+    def _start(self, at: float) -> tuple[float, float]:
+        """When a stimulus ``at`` after the reference starts: never before the model's
+        present (the co-simulation may have run ahead looking for output); returns the
+        start and the delay the vector must state."""
+        start = max(self.ref + at, self.t)
+        return start, start - self.ref
+
+    def send(self, data: bytes, at: float = 0.0, gap: float = 0.0, note: str = "", kind: str = "send") -> None:
+        self.flush_expectations()
+        start, at = self._start(at)
+        for k, b in enumerate(data):
+            arrive = start + k * (self.char + gap) + self.char
+            self._input(arrive, "invalid" if kind == "send_error" else "byte", b)
+        self.ref = self.sent_end = arrive
+        self.steps.append(Step(kind, bytes(data), at=_ms(at), gap=_ms(gap), note=note))
+        if kind == "send_error":
+            self.uses_line_conditions = True
+
+    def brk(self, duration: float, at: float = 0.0) -> None:
+        self.flush_expectations()
+        t, at = self._start(at)
+        self._input(t, "break")
+        self.advance(t + duration)
+        self.ref = self.sent_end = t + duration
+        self.steps.append(Step("break", duration=_ms(duration), at=_ms(at), note="BREAK"))
+        self.uses_line_conditions = True
+
+    def wait(self, d: float) -> None:
+        self.flush_expectations()
+        end, d = self._start(d)
+        self.advance(end)
+        self.ref = end
+        self.steps.append(Step("wait", duration=_ms(d)))
+
+    def run_until_output(self, n: int = 1, limit: float | None = None) -> list[_Out]:
+        """Let the model run until it has produced ``n`` more bytes (or ``limit``)."""
+        end = self.t + (limit if limit is not None else 2 * max(self.p.adt, self.p.cdt) + 10 * self.char)
+        while len(self.outs) < n and self.t < end:
+            d = self.st.next_deadline()
+            if d is None or d > end:
+                self.advance(end)
+                break
+            self.advance(d)
+        return self.outs[:n]
+
+    # -- expectations -------------------------------------------------------------
+    def flush_expectations(self, interrupted_rest: bytes | None = None) -> None:
+        """Turn the model's output so far into expect steps, relative to the runner's
+        reference point; ``interrupted_rest``: the block the IUT was sending when the tester
+        interrupted it (what may still come of it is a partial expectation)."""
+        # only characters that have arrived by now; one still on the line stays for later
+        outs = [o for o in self.outs if o.t <= self.t + 1e-12]
+        self.outs = [o for o in self.outs if o.t > self.t + 1e-12]
+        i = 0
+        char, cdt = self.char, self.p.cdt
+        while i < len(outs):
+            j = i + 1
+            while j < len(outs) and outs[j].t - outs[j - 1].t <= cdt and outs[j].cause == outs[i].cause \
+                    and outs[j].rule == outs[i].rule:
+                j += 1
+            group = outs[i:j]
+            d = group[0].t - self.ref
+            data = bytes(o.byte for o in group)
+            note = _note(group[0].rule, sorted(set(c for o in group for c in o.codes)))
+            if group[0].cause == "timer" or d > 3 * char + 1e-9:
+                after, within = _ms(d - 2 * char), _ms(d + 2 * char)
+            else:
+                # a reply: any time up to the partner's timer (CDT for the first character of
+                # a block after the partner's DLE); it may have gone out while the tester was
+                # still holding a BREAK, i.e. before the reference point
+                within = Expr("CDT") if group[0].rule == BLOCK_RULE else Expr("ADT")
+                after = _ms(min(0.0, d - 2 * char))
+            self.steps.append(Step("expect", data, after=after, within=within, note=note))
+            self.ref = group[-1].t
+            i = j
+        if interrupted_rest:
+            self.steps.append(Step("expect", interrupted_rest, partial=True, within=Expr("4*CHAR"),
+                                   after=Expr("-4*CHAR"), note="the IUT stops sending its block"))
+
+    # -- the result ---------------------------------------------------------------
+    def vector(self, vid: str, title: str, rule: str) -> Vector:
+        self.settle()
+        self.flush_expectations()
+        requires = {"echo"} if (self.uses_echo or self.delivered) and self.echo else set()
+        codes = frozenset(self.codes) | {0x0701, 0x0801, 0x0815, 0x080C, 0x0802, 0x1E0D}
+        return Vector(
+            id=vid, title=title, reference="3964r.md §6-§10 (generated by ptpcert fuzz)", rule=rule,
+            group="regression", iut_role="both", params=self.p, steps=tuple(self.steps),
+            expected=Expected(StatusSpec((), codes | _ALL_3964_CODES), StatusSpec(), tuple(self.delivered),
+                              tuple(self.sent), ()),
+            requires=frozenset(requires), provenance="[fuzz]",
+            binds=("procedure", "priority", "cdt_ms", "adt_ms", "setup_attempts", "transmission_attempts",
+                   "baud_rate", "data_bits", "parity", "stop_bits"),
+        )
+
+
+_ALL_3964_CODES = frozenset({0x0701, 0x0702, 0x0703, 0x0704, 0x0706, 0x0707, 0x0709, 0x070A, 0x0801, 0x0802,
+                             0x0805, 0x0806, 0x0808, 0x080A, 0x080C, 0x080D, 0x0815, 0x0816, 0x1E0D})
+
+
+def _ms(seconds: float) -> Expr:
+    if abs(seconds) < 1e-12:
+        return Expr("0")
+    return Expr(f"{seconds * 1000:.3f}ms")
+
+
+# ------------------------------------------------------------------ drawing the tester's behaviour
+CONTROL_BIAS = [0x10, 0x02, 0x03, 0x15, 0x00, 0xFF]
+
+
+def payloads(max_size: int = 64):
+    byte = st.one_of(st.sampled_from(CONTROL_BIAS), st.integers(0, 255))
+    return st.lists(byte, min_size=1, max_size=max_size).map(bytes)
+
+
+def _timer_fraction(draw, under_only: bool = False) -> float:
+    """Fractions of a timer, biased to the edges a real process can honour."""
+    choices = [0.0, 0.2, 0.5, 0.8] + ([] if under_only else [1.5])
+    return draw(st.sampled_from(choices))
+
+
+class Generator:
+    """Draws one example: a sequence of tester behaviours, co-simulated with the model."""
+
+    def __init__(self, profile: Profile, max_actions: int = 6, max_payload: int = 64,
+                 readings: Readings = READINGS):
+        self.profile = profile
+        self.p = profile.params
+        self.max_actions = max_actions
+        self.max_payload = max_payload
+        self.readings = readings
+        self.line = profile.line_conditions == "parmrk"
+
+    def __call__(self, data) -> CoSim:
+        sim = CoSim(self.p, self.profile.echo, self.readings)
+        n = data.draw(st.integers(1, self.max_actions), label="actions")
+        self._pol, self._policy_job = {"kind": "random"}, None
+        for _ in range(n):
+            self._act(sim, data)
+        self._finish(sim, data)
+        return sim
+
+    def _reply_wait(self) -> float:
+        """How long the co-simulation waits for the IUT's next move before the tester acts:
+        past the longest timer a reply can depend on here (CDT or ADT), not longer."""
+        return 2 * max(self.p.cdt, self.p.adt) + 10 * self.p.char_time
+
+    # -- one action, chosen for the situation the model IUT is in ---------------------
+    def _act(self, sim: CoSim, data) -> None:
+        s = sim.st.state
+        if s == T.WAIT_SETUP_ACK:
+            return self._answer_setup(sim, data)
+        if s == T.SEND_DATA:
+            return self._interrupt_block(sim, data)
+        if s == T.WAIT_RELEASE_ACK:
+            return self._answer_release(sim, data)
+        return self._from_idle(sim, data)
+
+    def _from_idle(self, sim: CoSim, data) -> None:
+        p = self.p
+        kinds = ["block", "block", "bad-block", "bad-block", "stray", "nak", "wait"]
+        if self.profile.echo:
+            kinds += ["prime", "prime", "prime-long", "prime-long"]
+        if self.line:
+            kinds += ["break", "char-error"]
+        kind = data.draw(st.sampled_from(kinds), label="idle action")
+        if kind == "wait":
+            sim.wait(data.draw(st.sampled_from([p.cdt * 0.5, p.cdt * 1.5, p.adt * 0.8, p.adt * 1.5])))
+        elif kind == "stray":
+            sim.send(bytes([data.draw(st.sampled_from([0x41, 0x10, 0x03, 0x00, 0xFF]), label="stray")]),
+                     note="a stray character")
+        elif kind == "nak":
+            sim.send(b"\x15", note="NAK")
+        elif kind == "break":
+            sim.brk(20 * max(p.char_time, 0.001))
+        elif kind == "char-error":
+            sim.send(bytes([0x41]), kind="send_error", note="a character with a parity error")
+        else:
+            if kind == "prime-long":  # long enough to be interrupted, without 02 or 15 in it
+                payload = data.draw(st.lists(st.integers(0x20, 0x7E), min_size=60, max_size=160).map(bytes),
+                                    label="long payload")
+            else:
+                payload = data.draw(payloads(self.max_payload), label="payload")
+            self._tester_block(sim, data, payload, mutate=(kind == "bad-block"))
+            if kind.startswith("prime"):
+                sim.uses_echo = True
+        sim.run_until_output(1, limit=self._reply_wait())
+
+    def _tester_block(self, sim: CoSim, data, payload: bytes, mutate: bool) -> None:
+        p = self.p
+        sim.send(b"\x02", note="STX")
+        sim.run_until_output(1, limit=self._reply_wait())
+        if not (sim.outs and sim.outs[-1].byte == 0x10):
+            return  # not answered with DLE (e.g. the IUT is busy): leave it to the next action
+        body = codec.body(payload, p.procedure)
+        how = data.draw(st.sampled_from(["wrong-bcc", "char-error", "gap", "dle-other", "cut", "too-long"]
+                                        if mutate else ["none"]), label="mutation")
+        if how == "too-long":
+            body = codec.body(payload + bytes([0x5A]) * (1025 - len(payload)), p.procedure)
+        if how == "wrong-bcc" and p.has_bcc:
+            body = body[:-1] + bytes([body[-1] ^ data.draw(st.integers(1, 255), label="bcc xor")])
+        if how == "dle-other":
+            # a DLE followed by 41 inside the data, with a BCC that is right for what is
+            # sent: only the DLE rule (16#0805) can refuse the block
+            stuffed = codec.stuff(payload)
+            k = data.draw(st.integers(0, len(stuffed)), label="dle position")
+            stuffed = stuffed[:k] + b"\x10\x41" + stuffed[k:]
+            body = stuffed + b"\x10\x03" + (bytes([codec.bcc(stuffed)]) if p.has_bcc else b"")
+        if how == "cut":
+            body = body[: data.draw(st.integers(1, len(body) - 1), label="cut")]
+        if how in ("char-error", "gap") and len(body) > 1:
+            k = data.draw(st.integers(0, len(body) - 1), label="position")
+            sim.send(body[:k], note="block") if k else None
+            if how == "char-error" and self.line:
+                sim.send(body[k:k + 1], kind="send_error", note="a character with a parity error")
+            elif how == "gap":
+                sim.send(body[k:k + 1], at=(_timer_fraction(data.draw) or 0.8) * p.cdt, note="after a gap")
+            else:
+                sim.send(body[k:k + 1])
+            if body[k + 1:]:
+                sim.send(body[k + 1:], note="rest of the block")
+        else:
+            sim.send(body, note="block" if how == "none" else f"block ({how})")
+
+    # -- the tester's policy for the IUT's current job ---------------------------------
+    def _policy(self, sim: CoSim, data) -> dict:
+        """Drawn when the IUT starts a job and kept for all its attempts: answer at random,
+        or refuse the first k setups / releases / blocks (k up to the attempt limits, so
+        that the limits themselves are reached) and cooperate afterwards."""
+        job = sim.st.job
+        if job is None:
+            return {"kind": "random"}
+        if getattr(self, "_policy_job", None) is not job:
+            self._policy_job = job
+            kind = data.draw(st.sampled_from(["random", "random", "refuse"]), label="job policy")
+            pol = {"kind": kind}
+            if kind == "refuse":
+                where = data.draw(st.sampled_from(["setup", "release", "data"]), label="refuse where")
+                limit = self.p.setup_attempts if where == "setup" else self.p.transmission_attempts
+                pol.update(where=where, how=data.draw(st.sampled_from(["nak", "silence", "other"]), label="refuse how"),
+                           left=data.draw(st.one_of(st.just(limit), st.integers(1, limit)), label="refusals"))
+            self._pol = pol
+        return self._pol
+
+    def _refusal(self, sim: CoSim, data, where: str) -> str | None:
+        pol = self._policy(sim, data)
+        if pol["kind"] == "refuse" and pol["where"] == where and pol["left"] > 0:
+            pol["left"] -= 1
+            return pol["how"]
+        if pol["kind"] == "refuse":
+            return "dle"
+        return None
+
+    def _answer(self, sim: CoSim, data, where: str) -> None:
+        p = self.p
+        sim.advance(max(sim.t, sim.st._tx_free_at))  # the IUT's STX / block is completely out
+        how = self._refusal(sim, data, where)
+        if how is None:
+            how = data.draw(st.sampled_from(["dle", "dle", "nak", "other", "silence", "stx"]
+                                            + (["char-error", "break"] if self.line else [])), label=f"{where} answer")
+        at = _timer_fraction(data.draw, under_only=True) * p.adt if how != "silence" else 0.0
+        note = {"dle": "DLE", "nak": "NAK", "other": "another character",
+                "stx": "a crossing STX (initialization conflict)" if where == "setup" else "STX"}
+        if how in ("dle", "nak", "other", "stx"):
+            sim.send({"dle": b"\x10", "nak": b"\x15", "other": b"\x41", "stx": b"\x02"}[how], at=at, note=note[how])
+        elif how == "char-error":
+            sim.send(b"\x10", at=at, kind="send_error", note="DLE with a parity error")
+        elif how == "break":
+            sim.brk(20 * max(p.char_time, 0.001), at=at)
+        sim.run_until_output(1, limit=self._reply_wait())
+
+    def _answer_setup(self, sim: CoSim, data) -> None:
+        self._answer(sim, data, "setup")
+
+    def _interrupt_block(self, sim: CoSim, data) -> None:
+        """Interrupt the IUT's block after k of its bytes with NAK, another character or a
+        BREAK. What may still come of the block is a partial expectation; so that the byte
+        that follows it (a new STX, a NAK) cannot be mistaken for block data, the block must
+        not contain those values within the bytes that may still be on their way."""
+        p = self.p
+        st_ = sim.st
+        forced = self._refusal(sim, data, "data")
+        if forced in ("nak", "other"):
+            how = forced
+        elif forced is not None:
+            how = "nothing"
+        else:
+            how = data.draw(st.sampled_from(["nothing", "nak", "other"] + (["break"] if self.line else [])),
+                            label="interrupt")
+        body = st_._body(st_.job.payload) if st_.job else b""
+        start = st_._tx_done_at - len(body) * p.char_time
+        if how == "nothing" or p.char_time == 0 or len(body) < 16 or st_._tx_done_at == float("inf"):
+            sim.advance(st_._tx_done_at if st_._tx_done_at != float("inf") else sim.t)
+            return
+        done = max(1, int(round((sim.t - start) / p.char_time)))
+        if done > len(body) - 12:
+            sim.advance(st_._tx_done_at)
+            return
+        k = data.draw(st.integers(done, len(body) - 12), label="interrupt after")
+        window = body[k:k + 64]
+        if 0x02 in window or 0x15 in window:
+            sim.advance(st_._tx_done_at)
+            return
+        sim.advance(start + k * p.char_time + 1e-9)   # the k-th byte of the block is complete
+        sim.flush_expectations()
+        if how == "break":
+            sim.brk(20 * p.char_time)
+        else:
+            sim.send(b"\x15" if how == "nak" else b"\x42", note="NAK" if how == "nak" else "another character")
+        sim.advance(max(sim.t, st_._popped_end, st_._tx_free_at if st_.state is not T.SEND_DATA else sim.t))
+        rest_sent = [o for o in sim.outs if o.rule == BLOCK_RULE]
+        sim.outs = [o for o in sim.outs if o.rule != BLOCK_RULE]
+        sim.steps.append(Step("expect", body[k:], partial=True, after=Expr("-24*CHAR"), within=Expr("4*CHAR"),
+                              note="§7.2 items 3-4, §7.6: the IUT stops sending its block"))
+        if rest_sent:
+            sim.ref = max(sim.ref, rest_sent[-1].t)
+        sim.run_until_output(1, limit=self._reply_wait())
+
+    def _answer_release(self, sim: CoSim, data) -> None:
+        self._answer(sim, data, "release")
+
+    def _finish(self, sim: CoSim, data=None) -> None:
+        """Bring the exchange to rest: the tester goes on answering whatever the IUT still
+        wants to send, following the job's policy and then as a conforming partner, until
+        the IUT is idle (or waits for a repetition, which looks the same on the line)."""
+        st_ = sim.st
+        for _ in range(20 * self.p.setup_attempts * self.p.transmission_attempts):
+            s = st_.state
+            if s in (T.WAIT_SETUP_ACK, T.WAIT_RELEASE_ACK):
+                if data is not None:
+                    self._answer(sim, data, "setup" if s == T.WAIT_SETUP_ACK else "release")
+                else:
+                    sim.advance(max(sim.t, st_._tx_free_at))
+                    sim.send(b"\x10", note="DLE (the tester accepts)")
+            elif s == T.SEND_DATA and data is not None:
+                self._interrupt_block(sim, data)
+            elif s in (T.IDLE, T.WAIT_REPETITION) and not st_._tx and st_.pending_jobs == 0:
+                break
+            else:
+                d = st_.next_deadline()
+                if d is None:
+                    break
+                sim.advance(max(d, sim.t))
+
+
+# ------------------------------------------------------------------ the campaign
+@dataclass
+class Finding:
+    vector: Vector
+    result: R.CaseResult
+    rule: str
+    status: str
+
+    def describe(self) -> str:
+        r = self.result
+        lines = [f"FINDING {self.vector.id}: {self.rule}",
+                 f"  STATUS involved: {self.status or 'none'}",
+                 f"  {r.message}"]
+        lines.append("  transcript (shrunk):")
+        for s in self.vector.steps:
+            d = s.to_toml()
+            lines.append("    " + ", ".join(f"{k} = {v}" for k, v in d.items()))
+        return "\n".join(lines)
+
+
+class _BudgetOver(Exception):
+    pass
+
+
+class _Found(Exception):
+    def __init__(self, finding: Finding):
+        self.finding = finding
+        super().__init__(finding.rule)
+
+
+ALTERNATIVE_READINGS = [
+    ("A6", dict(a6_second_final_nak=True)),
+    ("A7", dict(a7_quiet_wait_retriggered=False)),
+    ("A11", dict(a11_deferred_nak_after_dle_other=False)),
+    ("A12", dict(a12_release_adt_after_last_byte=False)),
+    ("A13", dict(a13_nak_after_invalid_char_in_idle=False)),
+    ("A17", dict(a17_accept_zero_length_block=False)),
+    ("A19", dict(a19_wait_repetition_code=0x0808)),
+    ("A21", dict(a21_conflict_counts_collided_stx=False)),
+    ("A23", dict(a23_restart_adt_on_conflict_stx=True)),
+    ("A4", dict(a4_reset_setup_counter_per_attempt=False)),
+    ("A10", dict(a10_dle_in_end_sequence_too_early=False)),
+]
+
+
+@dataclass
+class Campaign:
+    profile: Profile
+    runner: Runner
+    budget: float
+    seed: int
+    settings_profile: str = "ptpcert-quick"
+    database: str | None = None
+    progress: Callable[[str], None] | None = None
+    max_actions: int = 6
+    examples: int = 0
+    informational: int = 0
+    findings: list[Finding] = field(default_factory=list)
+    started: float = 0.0
+    max_case_seconds: float = 2.0
+    _unshrunk: Finding | None = None
+    _shrink_until: float = 0.0
+
+    def _run_vector(self, v: Vector) -> R.CaseResult:
+        return self.runner.run_case(v)
+
+    def _explained(self, data_choices, v: Vector) -> str | None:
+        """The reading under which a model does what the IUT did, if there is one."""
+        return None
+
+    def run(self) -> list[Finding]:
+        self.started = time.monotonic()
+        end = self.started + self.budget
+        rnd = 0
+        seen_rules: set[str] = set()
+        db = DirectoryBasedExampleDatabase(self.database) if self.database else None
+        base = settings.get_profile(self.settings_profile)
+        while time.monotonic() < end:
+            gen = Generator(self.profile, self.max_actions)
+            campaign = self
+
+            @hseed(self.seed + rnd)
+            @settings(base, max_examples=25, database=db, deadline=None, print_blob=False,
+                      phases=[Phase.generate, Phase.shrink] if db is None else list(Phase))
+            @given(st.data())
+            def example(data):
+                now = time.monotonic()
+                if campaign._unshrunk is None and now >= end:
+                    raise _BudgetOver          # generating: the budget is spent
+                if campaign._unshrunk is not None and now >= max(end, campaign._shrink_until):
+                    return                     # shrinking has had its time: keep what it has
+                sim = gen(data)
+                # examples that make the IUT wait out T_BLOCK (4 s) cost more real time than
+                # they are worth here; level 1 covers those paths in virtual time
+                assume(sim.t <= campaign.max_case_seconds)
+                digest = hashlib.sha256(repr([s.to_toml() for s in sim.steps]).encode()).hexdigest()[:10]
+                v = sim.vector(f"FUZZ.{digest.upper()}", "fuzz example", "")
+                campaign.examples += 1
+                res = campaign._run_vector(v)
+                if res.verdict != R.FAIL:
+                    return
+                res2 = campaign._run_vector(v)            # confirm: real time can glitch once
+                if res2.verdict != R.FAIL:
+                    return
+                alt = campaign._alternative(v, res2)
+                if alt:
+                    campaign.informational += 1
+                    return
+                rule, status = _divergent_rule(v, res2)
+                found = Finding(v, res2, rule, status)
+                if campaign._unshrunk is None:
+                    campaign._shrink_until = time.monotonic() + max(10.0, 0.25 * campaign.budget)
+                if campaign._unshrunk is None or len(v.steps) < len(campaign._unshrunk.vector.steps):
+                    campaign._unshrunk = found
+                raise _Found(found)
+
+            self._unshrunk = None
+            try:
+                example()
+            except _BudgetOver:
+                break
+            except Exception as exc:
+                # a real IUT may not repeat a divergence while hypothesis shrinks it
+                # (Flaky): keep the smallest failing example seen, unshrunk
+                found = exc if isinstance(exc, _Found) else (_Found(self._unshrunk) if self._unshrunk else None)
+                if found is None:
+                    if time.monotonic() >= end:
+                        break      # hypothesis noticed the budget ending mid-round: nothing lost
+                    if self.progress:
+                        self.progress(f"round {rnd}: {type(exc).__name__}: {str(exc)[:300]}")
+                    rnd += 1
+                    continue
+                finding = found.finding
+                key = finding.rule + "|" + (finding.result.divergence.expected if finding.result.divergence else "")
+                if key not in seen_rules:
+                    seen_rules.add(key)
+                    rid = hashlib.sha256(dump_vector(finding.vector).encode()).hexdigest()[:8].upper()
+                    vec = replace(finding.vector, id=f"FUZZ.{rid}", title=f"Fuzz finding: {finding.rule}",
+                                  rule=f"{finding.rule} (found by ptpcert fuzz, seed {self.seed + rnd})")
+                    finding.vector = vec
+                    self.findings.append(finding)
+                    if self.progress:
+                        self.progress(finding.describe())
+            rnd += 1
+            if self.progress:
+                self.progress(f"[{time.monotonic() - self.started:6.1f} s] examples {self.examples}, "
+                              f"findings {len(self.findings)}, explained by another reading {self.informational}")
+        return self.findings
+
+    def _alternative(self, v: Vector, res: R.CaseResult) -> str | None:
+        """The open point of the manual (3964r.md §17) whose other reading explains the
+        divergence, if any: a model with that reading, run through the same vector, departs
+        from it at the same step in the same way as the IUT did."""
+        if res.divergence is None:
+            return None
+        from .transport.sim import SimTransport
+        from .transport import Factory
+        for name, change in ALTERNATIVE_READINGS:
+            readings = replace(READINGS, **change)
+
+            def make(vec, params, readings=readings):
+                return SimTransport(params, app="echo" if self.profile.echo else "none",
+                                    station_factory=lambda p: Station3964(p, readings, name="iut"))
+            alt = Runner(Factory(make, SimTransport.capabilities - {"buffer_control"}, virtual=True),
+                         self.profile, RunOptions(check_status=False)).run_case(v)
+            d = alt.divergence
+            if d is not None and d.step == res.divergence.step and d.observed == res.divergence.observed:
+                return name
+        return None
+
+def _divergent_rule(v: Vector, res: R.CaseResult) -> tuple[str, str]:
+    if res.divergence is not None and 0 <= res.divergence.step < len(v.steps):
+        note = v.steps[res.divergence.step].note
+        if note:
+            rule, _, codes = note.partition(" [STATUS ")
+            return rule, codes.rstrip("]")
+    return "after the exchange the line stays quiet (no spurious bytes)", ""
+
+
+def export(findings: list[Finding], directory: str | Path) -> list[Path]:
+    d = Path(directory)
+    d.mkdir(parents=True, exist_ok=True)
+    out = []
+    for f in findings:
+        path = d / f"{f.vector.id.lower().replace('.', '-')}.toml"
+        header = (f"Found by ptpcert fuzz: {f.rule}\nSTATUS involved: {f.status or 'none'}\n"
+                  f"Divergence: {f.result.message}")
+        path.write_text(dump_vector(f.vector, header=header), "utf-8")
+        out.append(path)
+    return out

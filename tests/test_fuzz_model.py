@@ -1,0 +1,177 @@
+"""Fuzzer level 1: two model stations wired together in virtual time, driven by a
+hypothesis state machine (requests on either side or both at once, delivering bytes,
+dropping / corrupting / duplicating a byte in flight, time steps biased to just under and
+just over CDT, ADT, 400 ms and 4 s, BREAK), with the protocol's invariants checked after
+every step:
+
+* attempts never exceed the parameters (setup and transmission counters);
+* after an initialization conflict exactly one side sends: never both in the data phase;
+* no deadlock: once the longest chain of timers has run out, both are idle;
+* every requested block is delivered exactly once and unchanged, or its failure is
+  reported with a STATUS code the situation allows; with faults on the line a block may
+  arrive twice (a lost final DLE) or altered in a way the BCC cannot see (3964r.md §4.4).
+
+Settings: the "ptpcert-quick" profile (extends hypothesis's "ci" profile) unless
+--hypothesis-profile says otherwise (see tests/conftest.py).
+"""
+
+from collections import Counter
+
+from hypothesis import note, settings, strategies as st
+from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, precondition, rule
+
+import harness.fuzz  # noqa: F401  (registers the settings profiles)
+from harness.model import Params3964, Station3964, codec, table as T
+from harness.model.events import Delivered, SendDone, SendFailed, Status
+from harness.model.link import CORRUPT, DELIVER, DROP, DUPLICATE, Link
+from harness.model.params import T_BLOCK, T_NAKTIM
+
+CONTROL = [0x10, 0x02, 0x03, 0x15, 0x00]
+byte = st.one_of(st.sampled_from(CONTROL), st.integers(0, 255))
+payloads = st.one_of(st.lists(byte, min_size=1, max_size=24), st.lists(byte, min_size=1, max_size=24),
+                     st.lists(byte, min_size=1, max_size=24), st.lists(byte, min_size=1000, max_size=1024)).map(bytes)
+ALLOWED_FAILURES = {0x0709, 0x070A, 0x080D}
+
+
+class TwoStations(RuleBasedStateMachine):
+    # setup attempts >= 2: with one attempt, our reading of A21 (the collided STX counts as
+    # attempt 1) makes a low-priority station give up its job after any conflict, a
+    # legitimate 16#0709 that the manual's test advice says not to test (3964r.md §17 A21)
+    @initialize(procedure=st.sampled_from(["3964", "3964R"]), a_high=st.booleans(),
+                setup=st.integers(2, 3), tx=st.integers(1, 3),
+                baud=st.sampled_from([9600, 76800, None]))
+    def start(self, procedure, a_high, setup, tx, baud):
+        common = dict(procedure=procedure, setup_attempts=setup, transmission_attempts=tx, baud_rate=baud,
+                      cdt_ms=220, adt_ms=550 if procedure == "3964" else 2000)
+        self.p = Params3964(priority="high" if a_high else "low", **common)
+        self.a = Station3964(self.p, name="a")
+        self.b = Station3964(self.p.with_(priority="low" if a_high else "high"), name="b")
+        self.faults: list[tuple[str, str]] = []
+        self.faulted = False       # a byte was dropped, corrupted or duplicated, or a BREAK sent
+        self.requests = {"a": [], "b": []}
+        self.link = Link(self.a, self.b, hook=self._hook)
+        self.link.power_on(0.0)
+        # both start-up NAKs are out before the first job: a start-up NAK that crosses a
+        # setup is a line event of its own (it refuses the STX), exercised by line_break/fault
+        self.link.run_until_quiet(1.0)
+        self.char = self.p.char_time
+
+    def _hook(self, w):
+        for i, (src, kind) in enumerate(self.faults):
+            if src == w.src:
+                del self.faults[i]
+                self.faulted = True
+                note(f"fault: {kind} {w.byte:02X} from {w.src} at {w.start:.6f}")
+                return kind
+        return DELIVER
+
+    def station(self, side):
+        return self.a if side == "a" else self.b
+
+    # -- rules --------------------------------------------------------------------
+    @rule(side=st.sampled_from("ab"), payload=payloads)
+    def request(self, side, payload):
+        self.requests[side].append(payload)
+        self.link.request(self.station(side), payload)
+
+    @rule(pa=payloads, pb=payloads)
+    def both_at_once(self, pa, pb):
+        t = self.link.now
+        self.requests["a"].append(pa)
+        self.requests["b"].append(pb)
+        self.link.request(self.a, pa, at=t)
+        self.link.request(self.b, pb, at=t)
+
+    @rule(n=st.integers(1, 40))
+    def deliver(self, n):
+        target = len(self.link.wire) + n
+        while len(self.link.wire) < target:
+            t = self.link.next_time()
+            if t == float("inf"):
+                break
+            self.link.run_until(t)
+
+    @rule(data=st.data())
+    def advance(self, data):
+        p, c = self.p, self.char
+        edges = [p.cdt, p.cdt + 2 * c, p.adt, p.adt + 2 * c, T_NAKTIM, T_BLOCK]
+        base = data.draw(st.sampled_from(edges), label="timer")
+        delta = data.draw(st.sampled_from([-0.001, -0.0001, 0.0, 0.0001, 0.001]), label="edge")
+        self.link.run_until(self.link.now + max(0.0, base + delta))
+
+    @rule(src=st.sampled_from("ab"), kind=st.sampled_from([DROP, CORRUPT, DUPLICATE]))
+    def fault(self, src, kind):
+        self.faults.append((src, kind))
+
+    @rule(side=st.sampled_from("ab"))
+    def line_break(self, side):
+        self.faulted = True
+        self.link.inject_break(self.station(side), at=self.link.now)
+
+    @precondition(lambda self: not self.faults)
+    @rule()
+    def settle(self):
+        """No deadlock: with no fault pending, the longest chain of timers ends in quiet."""
+        p = self.p
+        jobs = len(self.requests["a"]) + len(self.requests["b"]) + 1
+        block = 2 * 1030 * self.char
+        bound = jobs * ((p.setup_attempts * p.transmission_attempts + 2) * (p.adt + p.cdt + block + T_NAKTIM)
+                        + T_BLOCK) + 10.0
+        assert self.link.run_until_quiet(self.link.now + bound), "no quiet after the longest chain of timers"
+        self.check_outcomes(final=True)
+
+    # -- invariants ---------------------------------------------------------------------
+    @invariant()
+    def attempts_bounded(self):
+        for st_ in (self.a, self.b):
+            for job in (st_.job, st_.deferred):
+                if job is not None:
+                    assert job.x <= st_.params.setup_attempts + 1
+                    assert job.w <= st_.params.transmission_attempts + 1
+                    assert job.stx_sent <= st_.params.setup_attempts * st_.params.transmission_attempts + 1
+
+    @invariant()
+    def one_sender_at_a_time(self):
+        assert not (self.a.state is T.SEND_DATA and self.b.state is T.SEND_DATA)
+
+    @invariant()
+    def deliveries_are_sound(self):
+        self.check_outcomes(final=False)
+
+    def check_outcomes(self, final: bool):
+        for src, dst in (("a", "b"), ("b", "a")):
+            sender, receiver = self.station(src), self.station(dst)
+            requested = self.requests[src]
+            done = [e for e in self.link.events_of(sender) if isinstance(e, (SendDone, SendFailed))]
+            delivered = [e.payload for e in self.link.events_of(receiver, Delivered)]
+            assert len(done) <= len(requested)
+            for req, outcome in zip(requested, done):
+                assert outcome.payload == req                      # jobs end in the order they were given
+                if isinstance(outcome, SendFailed):
+                    assert self.faulted, f"a job failed on a clean line: 16#{outcome.code:04X}"
+                    assert outcome.code in ALLOWED_FAILURES, f"16#{outcome.code:04X}"
+            sent = Counter(e.payload for e in done if isinstance(e, SendDone))
+            got = Counter(delivered)
+            if not self.faulted:
+                for payload in got:
+                    assert payload in requested, "delivered a block that was never sent"
+                for payload, n in sent.items():
+                    assert got[payload] == requested.count(payload) if final else got[payload] >= n
+            else:
+                for payload in got:
+                    if payload not in requested and self.p.has_bcc:
+                        # only an alteration the XOR cannot see may pass (§4.4)
+                        assert any(codec.payload_bcc(payload) == codec.payload_bcc(r) for r in requested), payload
+                # a DONE no longer proves delivery: a duplicated setup DLE, for one, can pass
+                # for the acknowledgement of the block (the procedure cannot tell them apart)
+            if final:
+                assert len(done) == len(requested), "every job ends, with success or a reported failure"
+                if not self.faulted:
+                    assert all(isinstance(e, SendDone) for e in done)
+                    # on a clean line the only STATUS events are of a conflict-free exchange
+                    codes = [e.code for e in self.link.events_of(sender, Status)]
+                    assert not codes, codes
+
+
+TestTwoStations = TwoStations.TestCase
+# settings: the profile loaded by tests/conftest.py (ptpcert-quick unless told otherwise)
