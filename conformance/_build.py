@@ -75,7 +75,8 @@ def echo_send(payload, p: Params3964, *, setup_reply_at: str = "0", release_repl
     return [
         expect(STX, note="the IUT's STX"),
         send(DLE, at=setup_reply_at, note="DLE"),
-        expect(body(payload, p), max_gap=max_gap, note="the IUT's block"),
+        expect(body(payload, p), within="CDT", max_gap=max_gap,
+               note="the IUT's block: its first character within the partner's CDT"),
         send(DLE, at=release_reply_at, note="DLE: the IUT's job is done"),
     ]
 

@@ -22,7 +22,7 @@ def cases(p):
                  expect(DLE, note="the IUT defers and acknowledges"),
                  send(body(theirs, p), note="the tester's block"), expect(DLE, note="received"),
                  expect(STX, note="the deferred job's next setup attempt"), send(DLE),
-                 expect(body(own, p), note="the IUT's own block"), send(DLE)],
+                 expect(body(own, p), within="CDT", note="the IUT's own block"), send(DLE)],
                 delivered=[own, theirs], sent=[own], echo_after=[theirs], requires=ECHO, readings=["A21"],
                 provenance="[S][F]"))
     else:
@@ -36,7 +36,7 @@ def cases(p):
                  send(STX, at=at, note="the tester's STX (low priority) crosses it"),
                  silence("0.15*ADT", note="the IUT must not answer it"),
                  send(DLE, note="the tester defers and acknowledges the IUT's STX"),
-                 expect(body(own, p), note="the IUT's block"), send(DLE)]
+                 expect(body(own, p), within="CDT", note="the IUT's block"), send(DLE)]
                 + receive_block(theirs, p),
                 delivered=[own, theirs], sent=[own], echo_after=[theirs], requires=ECHO, readings=["A23"],
                 provenance="[S][F][I]"))
