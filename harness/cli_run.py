@@ -139,7 +139,7 @@ def cmd_run(args) -> int:
         return 2
     try:
         factory = make_factory(args.iut, profile)
-        preflight(args.iut, factory, cases[0], profile)
+        preflight(args.iut, factory, profile)
     except TransportError as exc:
         print(f"ptpcert run: {exc}", file=sys.stderr)
         return 2
@@ -184,14 +184,14 @@ def write_reports(result, args) -> None:
         rep.write_junit(result, args.junit)
 
 
-def preflight(url: str, factory, case, profile) -> None:
+def preflight(url: str, factory, profile) -> None:
     """Start the IUT once before the run: a command that cannot start, or a port that cannot
     be opened, is a usage error (exit 2), not 50 failed cases."""
     from .transport import IUTDied, RESTART, TransportError
 
     if RESTART not in factory.capabilities or factory.virtual:
         return
-    tr = factory(case, profile.params)
+    tr = factory(None, profile.params)
     try:
         tr.open()
         tr.read(tr.now() + 1.0)
@@ -211,7 +211,6 @@ def cmd_fuzz(args) -> int:
     from .profile import ProfileError, load_profile
     from .runner import RunOptions, Runner
     from .transport import TransportError, make_factory
-    from .suite import load_suite
 
     try:
         profile = load_profile(args.profile)
@@ -224,10 +223,7 @@ def cmd_fuzz(args) -> int:
     seed = args.seed if args.seed is not None else random.SystemRandom().randrange(1, 2**31)
     try:
         factory = make_factory(args.iut, profile)
-        probe = load_suite(profile.params, default_vectors_dir(), include_suite=True,
-                           select=["SUITE.IDLE.NAK-IGNORED"])
-        if probe:
-            preflight(args.iut, factory, probe[0], profile)
+        preflight(args.iut, factory, profile)
     except TransportError as exc:
         print(f"ptpcert fuzz: {exc}", file=sys.stderr)
         return 2

@@ -64,13 +64,7 @@ def drive_station(host, ep: Endpoint, *, stop: Callable[[], bool] | None = None,
             if r > now:  # a recheck time already past would only spin
                 wake = min(wake, r)
         for t, kind, value in ep.poll(wake):
-            t = max(t, st.now)
-            if kind == "byte":
-                st.receive(t, value)
-            elif kind == "invalid":
-                st.receive_invalid(t, value)
-            else:
-                st.line_break(t)
+            st.line_event(max(t, st.now), kind, value)
         now = ep.now()
         d = st.next_deadline()
         if d is not None and d <= now:

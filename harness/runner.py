@@ -29,7 +29,8 @@ class Tolerance:
     """How far the IUT's timing may stray from a window, and how late the tester's own
     stimuli may be before the case is void (a harness timing fault, retried)."""
 
-    early: float        # a reply may come this much before its window opens
+    early: float        # a reply may come this much before its window opens,
+    early_rel: float    # ... plus this fraction of the window's nominal lower bound
     late_abs: float     # ... and this much after it closes,
     late_rel: float     # ... plus this fraction of the window's nominal upper bound
     stimulus: float     # the tester's bytes may go out this late
@@ -38,16 +39,18 @@ class Tolerance:
         return self.late_abs + self.late_rel * max(nominal, 0.0)
 
 
-VIRTUAL = Tolerance(early=1e-9, late_abs=1e-9, late_rel=0.0, stimulus=1e-6)
+VIRTUAL = Tolerance(early=1e-9, early_rel=0.0, late_abs=1e-9, late_rel=0.0, stimulus=1e-6)
 
 
 def realtime_tolerance(params: Params3964, late_ms: float = 50.0) -> Tolerance:
-    """Tolerances for real processes on a loaded machine: one character time plus 1 ms
-    early (the IUT may time from when it read our byte, not from its stop bit); 50 ms
-    plus 25 % late; the tester's stimuli at most 15 % of the shortest timer late."""
+    """Tolerances for real processes on a loaded machine: one character time plus 1 ms plus
+    10 % early (the IUT may time from when it read our byte, not from its stop bit, and the
+    harness may read the byte that starts a window a little late); 50 ms plus 25 % late;
+    the tester's stimuli at most 15 % of the shortest timer late."""
     char = params.char_time
     return Tolerance(
         early=char + 0.001,
+        early_rel=0.10,
         late_abs=late_ms / 1000.0 + 2 * char,
         late_rel=0.25,
         stimulus=max(0.002, 0.15 * min(params.cdt, params.adt)),
@@ -228,7 +231,7 @@ class CaseRun:
         elif step.since == "mark":
             self.ref = self.mark_time
         lo_nom, hi_nom = self.ev(step.after), self.ev(step.within)
-        lo = self.ref + lo_nom - self.tol.early
+        lo = self.ref + lo_nom - self.tol.early - self.tol.early_rel * max(lo_nom, 0.0)
         hi = self.ref + hi_nom + self.tol.late(hi_nom)
         what = brief_hex(step.data)
         if step.alternatives:
@@ -261,7 +264,7 @@ class CaseRun:
         if t < lo:
             self.fail(f"{what} no earlier than {step.after}",
                       f"{b:02X} came {1000 * (t - self.ref):.1f} ms after the reference, too early",
-                      t, (self.ref + lo_nom, self.ref + hi_nom))
+                      t, (self.ref + lo_nom, self.ref + hi_nom), late_only=True)
         got = bytearray([b])
         self.consume()
         last_t = t
@@ -524,7 +527,7 @@ class Runner:
                 continue
             if outcome == "late" and self.opts.confirm_late and not confirmed:
                 confirmed = True
-                res.notes.append(f"attempt {attempts} failed by lateness only ({res.message}); run again to confirm")
+                res.notes.append(f"attempt {attempts} failed by timing only ({res.message}); run again to confirm")
                 continue
             if (res.verdict == R.FAIL and v.timing_sensitive and self.opts.confirm_late and not confirmed
                     and not getattr(self.factory, "virtual", False)):

@@ -109,12 +109,7 @@ class Link:
             while self._flight and self._flight[0][0] <= t:
                 _, _, dest, kind, value = heapq.heappop(self._flight)
                 st = self.a if dest == self.a.name else self.b
-                if kind == "byte" or kind == "bytes":
-                    st.receive(t, value)
-                elif kind == "invalid":
-                    st.receive_invalid(t, value)
-                else:
-                    st.line_break(t)
+                st.line_event(t, kind, value)
             for st in (self.a, self.b):
                 d = st.next_deadline()
                 if d is not None and d <= t:

@@ -174,6 +174,19 @@ class Station3964:
         self._at(now, strict=True)
         self._input(T.BREAK)
 
+    def line_event(self, now: float, kind: str, value=0) -> None:
+        """One event from the line, as drivers and links carry them: ``"byte"`` (a
+        character, or ``"bytes"``, several at one instant), ``"invalid"`` (a character with a
+        parity/framing error) or ``"break"``."""
+        if kind == "byte" or kind == "bytes":
+            self.receive(now, value)
+        elif kind == "invalid":
+            self.receive_invalid(now, value)
+        elif kind == "break":
+            self.line_break(now)
+        else:
+            raise ModelError(f"{self.name}: unknown line event {kind!r}")
+
     def request_send(self, now: float, payload: bytes) -> bool:
         """Hand over a send job (P_SND_RK with REQ). Returns False, raising 16#1E41, when
         the length is outside 1..1024; a 7-bit character frame cannot carry bytes > 7F."""

@@ -101,12 +101,7 @@ class SimTransport(Transport):
             self._now = t
             while self._arrivals and self._arrivals[0][0] <= t:
                 _, _, kind, value = heapq.heappop(self._arrivals)
-                if kind == "byte":
-                    st.receive(t, value)
-                elif kind == "invalid":
-                    st.receive_invalid(t, value)
-                else:
-                    st.line_break(t)
+                st.line_event(t, kind, value)
             d = st.next_deadline()
             if d is not None and d <= t:
                 st.handle_timer(t)
