@@ -143,3 +143,18 @@ def test_dump_and_load_roundtrip(v, tmp_path):
     f.write_text(dump_vector(v, header="written back"))
     w = load_vector(f)
     assert w.to_toml() == v.to_toml()
+
+
+def test_both_sides_of_the_conflict_figures_are_checked():
+    from dataclasses import replace
+
+    from harness.check import check_both_sides
+    fig = next(v for v in VECTORS if v.id == "3964R.FIG2-8.CONFLICT-IUT-LOW")
+    ok = check_both_sides(fig)
+    assert ok is not None and ok.ok, ok.result.message
+    # the check can fail: with a tester of the same (low) priority both stations defer,
+    # and the bytes on the line are no longer the figure's
+    same = replace(fig, tester_params=fig.params)
+    bad = check_both_sides(same)
+    assert bad is not None and not bad.ok and "byte" in bad.result.message
+    assert check_both_sides(next(v for v in VECTORS if v.id == "3964R.D03.GARBAGE-IN-IDLE")) is None

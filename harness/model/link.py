@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from math import inf
 from typing import Callable
 
-from .events import Event
+from .events import Delivered, Event
 from .station import Station3964
 
 DELIVER, DROP, CORRUPT, DUPLICATE = "deliver", "drop", "corrupt", "duplicate"
@@ -41,6 +41,8 @@ class Link:
     events: list[tuple[str, Event]] = field(default_factory=list)
     max_steps_per_instant: int = 100_000
     record_wire: bool = True
+    #: stations whose application sends back every block they receive (the echo convention)
+    echo: set[str] = field(default_factory=set)
 
     def __post_init__(self) -> None:
         if self.a.name == self.b.name:
@@ -162,7 +164,12 @@ class Link:
                             self._push(at + 2 * char, dest, kind, byte)
             if st._events:
                 name = st.name
-                self.events.extend((name, e) for e in st.pop_events())
+                events = st.pop_events()
+                self.events.extend((name, e) for e in events)
+                if name in self.echo:
+                    for e in events:
+                        if isinstance(e, Delivered) and e.payload:
+                            st.request_send(t, e.payload)
 
     # -- views -----------------------------------------------------------------------
     def transcript(self) -> list[tuple[str, bytes]]:
