@@ -601,7 +601,7 @@ class Runner:
             res.origin = run.t0
             res.forced_wait = round(run.forced, 6)
             res.case_time = round(tr.now() - run.t0, 6) if tr.virtual else 0.0
-            if outcome == "ok" and res.verdict not in (R.ERROR,):
+            if res.verdict != R.ERROR:  # also for a failed attempt: the report shows what the IUT raised
                 self._judge_events(v, tr, res, run)
         return outcome
 
