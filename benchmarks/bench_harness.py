@@ -23,7 +23,6 @@ import tempfile
 import time
 from pathlib import Path
 
-from harness.model import Params3964
 from harness.runner import RunOptions, Runner
 from harness.scenario import Expr, Step, Vector
 from harness.transport import make_factory

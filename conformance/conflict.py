@@ -1,7 +1,7 @@
 """Initialization conflict (§2.2.2 Initialization conflict; Figs. 2-8, 2-10; 3964r.md §9).
 The cases follow the IUT's own priority from its profile."""
 
-from ._build import DLE, STX, body, case, echo_send, expect, h, prime, receive_block, send, silence
+from ._build import DLE, STX, body, case, expect, h, prime, receive_block, send, silence
 
 ECHO = ["echo"]
 OFFSETS = (("0", "AT-ONCE"), ("0.25*ADT", "QUARTER-ADT"), ("0.5*ADT", "HALF-ADT"), ("0.75*ADT", "THREE-QUARTERS-ADT"))

@@ -1,7 +1,7 @@
 """BREAK and character errors (§2.2.2 Error handling; Figs. 2-10 to 2-12 legend; 3964r.md §10).
 Character errors inside blocks are in receive.py, send.py and release.py."""
 
-from ._build import DLE, NAK, STX, body, brk, case, echo_send, expect, h, long_payload, prime, receive_block, send, send_error, silence
+from ._build import DLE, NAK, STX, body, brk, case, expect, h, long_payload, prime, receive_block, send, send_error, silence
 
 ECHO = ["echo"]
 BREAK_REF = "§2.2.2 Error handling; Figs. 2-10 to 2-12 'immediate return to the initial state on BREAK'; Table 8-1 16#080D; 3964r.md §10 item 5"

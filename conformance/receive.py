@@ -1,8 +1,7 @@
 """The IUT as receiver (§2.2.2 Receive; Figs. 2-6, 2-11, 2-12; 3964r.md §8)."""
 
-from harness.model import codec
 
-from ._build import (DLE, ETX, NAK, STX, body, case, expect, h, nak_after_cdt, receive_block, send,
+from ._build import (DLE, NAK, STX, body, case, expect, h, nak_after_cdt, receive_block, send,
                      send_error, silence)
 
 REPEAT_OPTIONAL = ["16#0801", "16#0815"]

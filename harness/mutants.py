@@ -9,12 +9,11 @@ with one action, decision or table row changed; nothing else differs.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable
 
 from .model import Params3964, Station3964
 from .model import events as ev
 from .model import table as T
-from .model.codec import DLE, ETX, NAK, STX, stuff
+from .model.codec import DLE, ETX, NAK, STX
 from .model.station import _xor
 
 

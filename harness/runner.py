@@ -9,7 +9,7 @@ waits. With the ``sim:`` transport the same code runs in virtual time.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Callable, Iterable
 
 from . import results as R

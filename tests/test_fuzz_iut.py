@@ -14,7 +14,7 @@ from harness import results as R
 from harness.fuzz import Generator, rule_for
 from harness.profile import reference_profile
 from harness.runner import RunOptions, Runner
-from harness.scenario import load_dir, load_vector
+from harness.scenario import load_dir
 from harness.transport import make_factory
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -79,6 +79,7 @@ def test_a_run_replays_from_its_seed(tmp_path):
     for d in ("a", "b"):
         p = fuzz("--iut", "sim:?mutant=bcc-includes-stx", "--profile", str(PROFILE), "--budget", "5", "--seed", "42",
                  "--export", str(tmp_path / d))
+        assert p.returncode == 1
         outs.append(sorted(f.read_text() for f in (tmp_path / d).glob("*.toml")))
     assert outs[0] and outs[0] == outs[1]
 

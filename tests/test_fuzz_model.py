@@ -17,7 +17,7 @@ Settings: the "ptpcert-quick" profile (extends hypothesis's "ci" profile) unless
 
 from collections import Counter
 
-from hypothesis import note, settings, strategies as st
+from hypothesis import note, strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, precondition, rule
 
 import harness.fuzz  # noqa: F401  (registers the settings profiles)

@@ -4,7 +4,7 @@
 import pytest
 
 from harness.model import Params3964, Station3964, codec, events as ev
-from harness.model.codec import DLE, ETX, NAK, STX, parse_hex
+from harness.model.codec import DLE, NAK, STX, parse_hex
 from harness.model.events import Delivered, SendDone, SendFailed, Status
 from harness.model.link import CORRUPT, DELIVER, DROP, Link
 

@@ -85,7 +85,7 @@ def test_mutants_are_listed_with_their_rule():
 def ptpcert_run(tmp_path, iut, profile, *extra):
     prof = tmp_path / "p.toml"
     d = profile.to_dict()
-    xf = d.pop("expected_failures")
+    d.pop("expected_failures")
     lines = ["[iut]"] + [f"{k} = {json.dumps(v)}" for k, v in d.items()] + ["[expected_failures]"]
     prof.write_text("\n".join(lines) + "\n")
     j = tmp_path / "r.json"

@@ -1,13 +1,12 @@
 """Every golden vector replayed against the reference model, the schema's error messages,
 and the coverage of the wire-observable STATUS codes (3964r.md §14)."""
 
-from pathlib import Path
 
 import pytest
 
 from harness.check import check_vector
 from harness.paths import default_vectors_dir
-from harness.scenario import (Expr, ExprError, Step, VectorError, dump_vector, load_dir, load_vector,
+from harness.scenario import (Expr, ExprError, VectorError, dump_vector, load_dir, load_vector,
                               parse_vector_hex, vector_from_dict, vector_hex)
 
 VECTORS = load_dir(default_vectors_dir())
