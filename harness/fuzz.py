@@ -399,8 +399,10 @@ class Generator:
         if not (sim.outs and sim.outs[-1].byte == 0x10):
             return  # not answered with DLE (e.g. the IUT is busy): leave it to the next action
         body = codec.body(payload, p.procedure)
-        how = data.draw(st.sampled_from(["wrong-bcc", "char-error", "gap", "dle-other", "cut", "too-long"]
+        how = data.draw(st.sampled_from(["wrong-bcc", "char-error", "gap", "dle-other", "cut", "too-long", "stall"]
                                         if mutate else ["none"]), label="mutation")
+        if how == "stall":  # nothing after the IUT's DLE: its first-character timeout must run out
+            return
         if how == "too-long":
             body = codec.body(payload + bytes([0x5A]) * (1025 - len(payload)), p.procedure)
         if how == "wrong-bcc" and p.has_bcc:
