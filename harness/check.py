@@ -62,16 +62,17 @@ def check_both_sides(v: Vector) -> CheckOutcome | None:
     job the vector primes and its echo application, the tester (the other priority) with the
     block it sends, its STX crossing the IUT's - must put exactly the vector's bytes on the
     line, in its order, and deliver what it says. None where that does not apply (one
-    sender, or an STX the script sends well after the IUT's, which is a stimulus)."""
+    sender, a vector without a primed job of the IUT - e.g. a fuzz finding, where the IUT
+    sends only by echo - or an STX the script sends well after the IUT's, which is a stimulus)."""
     from .model import Station3964, codec
     from .model.events import Delivered
     from .model.link import Link
     from .scenario import expand, timer_env
 
-    if v.iut_role != "both":
-        return None
-    res = R.CaseResult(v.id, v.title, v.reference, v.rule, v.group, v.iut_role, verdict=R.PASS)
     primes = [s for s in v.steps if s.kind == "prime"]
+    if v.iut_role != "both" or not primes:
+        return None  # the IUT sends only what its echo application answers: no crossing of own jobs
+    res = R.CaseResult(v.id, v.title, v.reference, v.rule, v.group, v.iut_role, verdict=R.PASS)
     steps = [s for s in expand(v) if s.kind in ("send", "expect")][4 * len(primes):]
     try:
         own = primes[0].data
