@@ -36,7 +36,8 @@ ALLOWED_FAILURES = {0x0709, 0x070A, 0x080D}
 class TwoStations(RuleBasedStateMachine):
     # setup attempts >= 2: with one attempt, our reading of A21 (the collided STX counts as
     # attempt 1) makes a low-priority station give up its job after any conflict, a
-    # legitimate 16#0709 that the manual's test advice says not to test (3964r.md §17 A21)
+    # legitimate 16#0709 that the manual's test advice says not to test (3964r.md §17 A21).
+    # With more attempts it still happens after that many conflicts in a row (see starved).
     @initialize(procedure=st.sampled_from(["3964", "3964R"]), a_high=st.booleans(),
                 setup=st.integers(2, 3), tx=st.integers(1, 3),
                 baud=st.sampled_from([9600, 76800, None]))
@@ -148,7 +149,8 @@ class TwoStations(RuleBasedStateMachine):
             for req, outcome in zip(requested, done):
                 assert outcome.payload == req                      # jobs end in the order they were given
                 if isinstance(outcome, SendFailed):
-                    assert self.faulted, f"a job failed on a clean line: 16#{outcome.code:04X}"
+                    assert self.faulted or self.starved(sender, outcome), \
+                        f"a job failed on a clean line: 16#{outcome.code:04X}"
                     assert outcome.code in ALLOWED_FAILURES, f"16#{outcome.code:04X}"
             sent = Counter(e.payload for e in done if isinstance(e, SendDone))
             got = Counter(delivered)
@@ -167,11 +169,48 @@ class TwoStations(RuleBasedStateMachine):
             if final:
                 assert len(done) == len(requested), "every job ends, with success or a reported failure"
                 if not self.faulted:
-                    assert all(isinstance(e, SendDone) for e in done)
-                    # on a clean line the only STATUS events are of a conflict-free exchange
+                    # on a clean line the only STATUS events are of a conflict-free exchange,
+                    # or the final 16#0709 of a low-priority job starved by conflicts
                     codes = [e.code for e in self.link.events_of(sender, Status)]
-                    assert not codes, codes
+                    starved = [e for e in done if isinstance(e, SendFailed)]
+                    assert codes == [0x0709] * len(starved), codes
+
+    def starved(self, station, outcome) -> bool:
+        """A job may fail on a clean line in one way: the low-priority station lost the
+        initialization conflict so often that its setup attempts ran out (A21 counts each
+        collided STX as an attempt; A8: no guard time, so a high-priority partner with jobs
+        back to back collides again at once). 16#0709, with no error of its own, and at
+        least ``setup_attempts`` STX of this station crossed one of the partner's."""
+        if station.params.priority != "low" or outcome.code != 0x0709 or outcome.first_error is not None:
+            return False
+        other = self.b if station is self.a else self.a
+        mine = [w.start for w in self.link.wire if w.src == station.name and w.byte == 0x02]
+        theirs = [w.start for w in self.link.wire if w.src == other.name and w.byte == 0x02]
+        crossed = sum(1 for t in mine if any(abs(t - u) < self.char for u in theirs))
+        return crossed >= station.params.setup_attempts
 
 
 TestTwoStations = TwoStations.TestCase
 # settings: the profile loaded by tests/conftest.py (ptpcert-quick unless told otherwise)
+
+
+def test_low_priority_job_starved_by_back_to_back_conflicts_is_allowed():
+    """Found by the thorough profile: the high-priority side sends two jobs back to back
+    while the low-priority side has one; both conflicts are lost by the low side, whose two
+    setup attempts (A21) are then used up: 16#0709 on a clean line, which the invariants
+    accept as starvation, and only as that."""
+    m = TwoStations()
+    m.start(procedure="3964", a_high=True, setup=2, tx=1, baud=9600)
+    m.request(payload=b"\x10", side="a")
+    m.both_at_once(pa=b"\x10", pb=b"\x10")
+    m.settle()
+    failed = [e for e in m.link.events_of(m.b) if isinstance(e, SendFailed)]
+    assert [e.code for e in failed] == [0x0709] and m.starved(m.b, failed[0])
+    assert not m.starved(m.a, failed[0])      # never for the high-priority side
+    # one more setup attempt and the same job gets through after the two conflicts
+    m = TwoStations()
+    m.start(procedure="3964", a_high=True, setup=3, tx=1, baud=9600)
+    m.request(payload=b"\x10", side="a")
+    m.both_at_once(pa=b"\x10", pb=b"\x10")
+    m.settle()
+    assert [type(e) for e in m.link.events_of(m.b) if isinstance(e, (SendDone, SendFailed))] == [SendDone]
