@@ -117,16 +117,12 @@ def cmd_run(args) -> int:
     from . import report as rep
     from . import results as R
     from .paths import default_vectors_dir
-    from .profile import ProfileError, load_profile
     from .runner import RunOptions, Runner
     from .scenario import VectorError, vector_set_hash
     from .suite import load_suite
-    from .transport import TransportError, make_factory
 
-    try:
-        profile = load_profile(args.profile)
-    except ProfileError as exc:
-        print(f"ptpcert run: bad profile: {exc}", file=sys.stderr)
+    profile = _load_profile("run", args.profile)
+    if profile is None:
         return 2
     vdir = Path(args.vectors) if args.vectors else default_vectors_dir()
     try:
@@ -137,11 +133,8 @@ def cmd_run(args) -> int:
     if not cases:
         print("ptpcert run: no case matches " + " ".join(args.select or []), file=sys.stderr)
         return 2
-    try:
-        factory = make_factory(args.iut, profile)
-        preflight(args.iut, factory, profile)
-    except TransportError as exc:
-        print(f"ptpcert run: {exc}", file=sys.stderr)
+    factory = _connect("run", args.iut, profile)
+    if factory is None:
         return 2
     opts = RunOptions(late_ms=args.tolerance_ms, startup_timeout=args.startup_timeout,
                       echo=profile.echo, check_status=profile.status_from_stderr)
@@ -184,6 +177,34 @@ def write_reports(result, args) -> None:
         rep.write_junit(result, args.junit)
 
 
+def _load_profile(cmd: str, path):
+    """The IUT profile, or None after telling why it is bad (the caller exits 2)."""
+    from .profile import ProfileError, load_profile
+
+    try:
+        return load_profile(path)
+    except ProfileError as exc:
+        print(f"ptpcert {cmd}: bad profile: {exc}", file=sys.stderr)
+        return None
+
+
+def _connect(cmd: str, url: str, profile):
+    """The transport factory for ``url``, checked by :func:`preflight`, or None after
+    telling why the IUT cannot be reached (the caller exits 2)."""
+    from .transport import TransportError, make_factory
+
+    factory = None
+    try:
+        factory = make_factory(url, profile)
+        preflight(url, factory, profile)
+        return factory
+    except TransportError as exc:
+        if factory is not None:
+            factory.shutdown()   # processes started ahead for the next cases
+        print(f"ptpcert {cmd}: {exc}", file=sys.stderr)
+        return None
+
+
 def preflight(url: str, factory, profile) -> None:
     """Start the IUT once before the run: a command that cannot start, or a port that cannot
     be opened, is a usage error (exit 2), not 50 failed cases."""
@@ -208,24 +229,17 @@ def cmd_fuzz(args) -> int:
 
     from .fuzz import Campaign, export
     from .paths import default_vectors_dir
-    from .profile import ProfileError, load_profile
     from .runner import RunOptions, Runner
-    from .transport import TransportError, make_factory
 
-    try:
-        profile = load_profile(args.profile)
-    except ProfileError as exc:
-        print(f"ptpcert fuzz: bad profile: {exc}", file=sys.stderr)
+    profile = _load_profile("fuzz", args.profile)
+    if profile is None:
         return 2
     if args.budget <= 0:
         print("ptpcert fuzz: --budget must be positive", file=sys.stderr)
         return 2
     seed = args.seed if args.seed is not None else random.SystemRandom().randrange(1, 2**31)
-    try:
-        factory = make_factory(args.iut, profile)
-        preflight(args.iut, factory, profile)
-    except TransportError as exc:
-        print(f"ptpcert fuzz: {exc}", file=sys.stderr)
+    factory = _connect("fuzz", args.iut, profile)
+    if factory is None:
         return 2
     out_dir = args.export or str(default_vectors_dir() / "regressions")
     print(f"ptpcert fuzz {__version__}: iut {args.iut}, profile {args.profile}")
