@@ -17,6 +17,7 @@ Settings: the "ptpcert-quick" profile (extends hypothesis's "ci" profile) unless
 --hypothesis-profile says otherwise (see tests/conftest.py).
 """
 
+from bisect import bisect_right
 from collections import Counter
 
 from hypothesis import note, strategies as st
@@ -142,6 +143,7 @@ class TwoStations(RuleBasedStateMachine):
         self.check_outcomes(final=False)
 
     def check_outcomes(self, final: bool):
+        disturbed = self.disturbed()
         for src, dst in (("a", "b"), ("b", "a")):
             sender, receiver = self.station(src), self.station(dst)
             requested = self.requests[src]
@@ -151,12 +153,11 @@ class TwoStations(RuleBasedStateMachine):
             for req, outcome in zip(requested, done):
                 assert outcome.payload == req                      # jobs end in the order they were given
                 if isinstance(outcome, SendFailed):
-                    assert self.disturbed() or self.starved(sender, outcome), \
+                    assert disturbed or self.starved(sender, outcome), \
                         f"a job failed on a clean line: 16#{outcome.code:04X}"
                     assert outcome.code in ALLOWED_FAILURES, f"16#{outcome.code:04X}"
             sent = Counter(e.payload for e in done if isinstance(e, SendDone))
             got = Counter(delivered)
-            disturbed = self.disturbed()
             if not disturbed:
                 for payload in got:
                     assert payload in requested, "delivered a block that was never sent"
@@ -188,15 +189,7 @@ class TwoStations(RuleBasedStateMachine):
         (no BCC) delivers the block with an extra 02; 3964R refuses it (BCC) and jobs fail
         with 16#070A. Both are within the rules (A8: no guard times); from there on the
         line is treated as disturbed."""
-        if self.faulted:
-            return True
-        half = self.char / 2
-        for x, y in (("a", "b"), ("b", "a")):
-            naks = [w.start for w in self.link.wire if w.src == x and w.byte == 0x15]
-            stxs = [w.start for w in self.link.wire if w.src == y and w.byte == 0x02]
-            if any(abs(t - u) < half for t in naks for u in stxs):
-                return True
-        return False
+        return self.faulted or any(self.crossing(side, 0x15, 0x02, self.char / 2) for side in "ab")
 
     def starved(self, station, outcome) -> bool:
         """A job may fail on a clean line in one way: the low-priority station lost the
@@ -206,11 +199,18 @@ class TwoStations(RuleBasedStateMachine):
         least ``setup_attempts`` STX of this station crossed one of the partner's."""
         if station.params.priority != "low" or outcome.code != 0x0709 or outcome.first_error is not None:
             return False
-        other = self.b if station is self.a else self.a
-        mine = [w.start for w in self.link.wire if w.src == station.name and w.byte == 0x02]
-        theirs = [w.start for w in self.link.wire if w.src == other.name and w.byte == 0x02]
-        crossed = sum(1 for t in mine if any(abs(t - u) < self.char for u in theirs))
-        return crossed >= station.params.setup_attempts
+        return self.crossing(station.name, 0x02, 0x02, self.char) >= station.params.setup_attempts
+
+    def crossing(self, side, byte, partner_byte, window) -> int:
+        """How many ``byte`` characters of ``side`` started less than ``window`` seconds
+        from a ``partner_byte`` of the other side (the wire is in time order)."""
+        mine = [w.start for w in self.link.wire if w.src == side and w.byte == byte]
+        theirs = [w.start for w in self.link.wire if w.src != side and w.byte == partner_byte]
+        n = 0
+        for t in mine:
+            i = bisect_right(theirs, t - window)   # the first one later than t - window
+            n += i < len(theirs) and theirs[i] - t < window
+        return n
 
 
 TestTwoStations = TwoStations.TestCase
