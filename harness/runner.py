@@ -79,8 +79,10 @@ class RunOptions:
     tolerance: Tolerance | None = None
     late_ms: float = 50.0
     startup_timeout: float = 2.0      # how long a freshly started IUT may take to say NAK
-    timing_retries: int = 2           # reruns of a case voided by a harness timing fault
-    confirm_late: bool = True         # rerun once a case that failed only by lateness
+    timing_retries: int = 3           # reruns of a case voided by a harness timing fault
+    confirm_late: bool = True         # reproduce a failure that the machine's timing may have caused
+    edge_attempts: int = 4            # attempts in all for a failing case close to a timer's edge
+    retry_pause: tuple[float, ...] = (0.2, 0.5, 1.0)  # seconds before the 1st, 2nd, 3rd+ repeat
     flood_limit: int = 20_000         # bytes from the IUT in one case before it counts as flooding
     echo: bool = True                 # the IUT echoes received blocks (profile send_trigger)
     check_status: bool = True         # compare reported STATUS events (profile status_from_stderr)
@@ -517,25 +519,27 @@ class Runner:
         if reason:
             res.verdict, res.message = R.UNSUPPORTED, reason
             return res
-        attempts = 0
-        confirmed = False
+        attempts = voided = reruns = 0
+        realtime = not getattr(self.factory, "virtual", False)
         while True:
             attempts += 1
             outcome = self._attempt(v, steps, params, res)
-            if outcome == "timing" and attempts <= self.opts.timing_retries:
+            if outcome == "timing" and voided < self.opts.timing_retries:
+                voided += 1
                 res.notes.append(f"attempt {attempts} voided: {res.message}")
+                self._pause(voided + reruns, realtime)
                 continue
-            if outcome == "late" and self.opts.confirm_late and not confirmed:
-                confirmed = True
-                res.notes.append(f"attempt {attempts} failed by timing only ({res.message}); run again to confirm")
-                continue
-            if (res.verdict == R.FAIL and v.timing_sensitive and self.opts.confirm_late and not confirmed
-                    and not getattr(self.factory, "virtual", False)):
-                confirmed = True
-                res.notes.append(f"attempt {attempts} failed ({res.message}); the case works close to a timer's "
-                                 f"edge, so it runs again to confirm")
+            if res.verdict == R.FAIL and reruns < self._rerun_budget(v, outcome, realtime):
+                reruns += 1
+                why = ("failed by timing only" if outcome == "late" else
+                       "failed; the case works close to a timer's edge, so it runs again")
+                res.notes.append(f"attempt {attempts} {why}: {res.message}")
+                self._pause(voided + reruns, realtime)
                 continue
             break
+        if res.verdict in (R.PASS, R.NON_STRICT, R.INFORMATIONAL) and reruns:
+            res.message = "; ".join(x for x in (res.message, f"passed on attempt {attempts} after {reruns} failed "
+                                                              f"attempt(s) (see notes)") if x)
         res.attempts = attempts
         res.duration = round(time.monotonic() - wall0, 4)
         xf = (self.profile.expected_failures if self.profile else {}).get(v.id)
@@ -545,6 +549,27 @@ class Runner:
             elif res.verdict in (R.PASS, R.NON_STRICT, R.INFORMATIONAL):
                 res.verdict, res.message = R.XPASS, f"listed as an expected failure ({xf}) but passed"
         return res
+
+    def _rerun_budget(self, v: Vector, outcome: str, realtime: bool) -> int:
+        """How many times a failed case runs again before its failure stands. A failure is
+        reproduced before it is reported where the machine's own timing could have caused
+        it: a case that failed only by a late reply runs once more; a case close to a timer's
+        edge (an acceptance at 80 % of CDT or ADT, an initialization conflict) runs up to
+        ``edge_attempts`` times in all over a real-time transport, and passes if any attempt
+        passes: one acceptance proves the IUT waits long enough, while a refusal may come
+        from a process that was scheduled a few milliseconds late. A deterministic early
+        timeout fails every attempt."""
+        if not self.opts.confirm_late:
+            return 0
+        budget = 1 if outcome == "late" else 0
+        if v.timing_sensitive and realtime:
+            budget = max(budget, self.opts.edge_attempts - 1)
+        return budget
+
+    def _pause(self, n: int, realtime: bool) -> None:
+        """Before the n-th repeated attempt, let a burst of load on the machine pass."""
+        if realtime and self.opts.retry_pause:
+            time.sleep(self.opts.retry_pause[min(n, len(self.opts.retry_pause)) - 1])
 
     def _attempt(self, v: Vector, steps, params: Params3964, res: R.CaseResult) -> str:
         """Run once; fill ``res``; return "ok", "timing" (voided) or "late" (failed by

@@ -194,3 +194,61 @@ def test_expected_failures_give_xfail_and_xpass(tmp_path):
     assert v["3964R.BCC.NEG-STX"] == "xfail"
     assert v["3964R.D02.NAK-IN-IDLE"] == "xpass"
     assert p.returncode == 1  # an xpass fails the run
+
+
+# -- reproducing failures that the machine's timing may have caused ----------------------
+
+def _edge_run(tmp_path, case_id, k, **opts):
+    """Run one suite case against an IUT that times out at half its CDT on its first k
+    starts (tests/fakes/early_first.py); return the result and how often the IUT started."""
+    from harness.profile import load_profile
+    from harness.runner import RunOptions, Runner
+    from harness.suite import load_suite
+    from harness.transport import make_factory
+
+    profile = load_profile(PROFILE)
+    counter = tmp_path / f"starts-{case_id}-{k}"
+    url = f"exec:{PY} {ROOT / 'tests' / 'fakes' / 'early_first.py'} {counter} {k} --cdt-ms 20 --adt-ms 20 --parmrk"
+    factory = make_factory(url, profile, prespawn=0)  # one process per attempt, started in order
+    (case,) = load_suite(profile.params, ROOT / "vectors", select=[case_id])
+    try:
+        res = Runner(factory, profile, RunOptions(retry_pause=(0.01,), **opts)).run_case(case)
+    finally:
+        factory.shutdown()
+    return res, len(counter.read_text().splitlines())
+
+
+def test_a_timer_edge_case_passes_once_one_attempt_passes(tmp_path):
+    res, starts = _edge_run(tmp_path, "SUITE.TIMING.FIRST-CHARACTER-AT-80-CDT", k=2)
+    assert res.verdict == "pass", (res.message, res.notes)
+    assert res.attempts == 3 and starts == 3
+    assert sum("runs again" in n for n in res.notes) == 2
+    assert "passed on attempt 3 after 2 failed attempt(s)" in res.message
+
+
+def test_a_timer_edge_failure_stands_when_every_attempt_fails(tmp_path):
+    res, starts = _edge_run(tmp_path, "SUITE.TIMING.FIRST-CHARACTER-AT-80-CDT", k=99, edge_attempts=3)
+    assert res.verdict == "fail" and res.attempts == 3 and starts == 3
+    assert "expected 10; received 15" in res.message
+    res, starts = _edge_run(tmp_path, "SUITE.TIMING.GAPS-AT-80-CDT-ACCEPTED", k=1, edge_attempts=1)
+    assert res.verdict == "fail" and res.attempts == 1 and starts == 1
+
+
+def test_a_timing_failure_away_from_a_timer_edge_is_confirmed_once(tmp_path):
+    # the NAK comes at half the CDT: a failure by timing alone is reproduced once, not
+    # edge_attempts times
+    res, starts = _edge_run(tmp_path, "SUITE.RECEIVE.CDT-AFTER-DLE", k=99)
+    assert res.verdict == "fail" and res.attempts == 2 and starts == 2
+    assert "too early" in res.message and "failed by timing only" in res.notes[0]
+
+
+def test_a_failure_in_the_bytes_away_from_a_timer_edge_is_not_run_again(tmp_path):
+    # a 3964R receiver that times out before the BCC answers NAK instead of DLE: wrong bytes
+    res, starts = _edge_run(tmp_path, "SUITE.RECEIVE.3964R-WAITS-FOR-BCC", k=99)
+    assert res.verdict == "fail" and res.attempts == 1 and starts == 1
+    assert "expected 10; received 15" in res.message
+
+
+def test_edge_attempts_must_be_positive(tmp_path):
+    p = ptpcert("run", "--iut", "sim:", "--profile", str(PROFILE), "--edge-attempts", "0")
+    assert p.returncode == 2 and "--edge-attempts must be 1 or more" in p.stderr
