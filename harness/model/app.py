@@ -22,9 +22,12 @@ class Host:
         self.station = station
         self.app = app
 
-    def drain(self) -> list[Event]:
+    def drain(self, now: float | None = None) -> list[Event]:
+        """The station's events; the application's new jobs are handed over at ``now``
+        (default: the station's own time)."""
         out: list[Event] = []
         st = self.station
+        at = st.now if now is None else now
         while True:
             events = st.pop_events()
             if not events:
@@ -33,4 +36,4 @@ class Host:
             if self.app == "echo":
                 for e in events:
                     if isinstance(e, Delivered) and e.payload:
-                        st.request_send(st.now, e.payload)
+                        st.request_send(at, e.payload)

@@ -13,7 +13,8 @@ from dataclasses import dataclass, field
 from math import inf
 from typing import Callable
 
-from .events import Delivered, Event
+from .app import Host
+from .events import Event
 from .station import Station3964
 
 DELIVER, DROP, CORRUPT, DUPLICATE = "deliver", "drop", "corrupt", "duplicate"
@@ -50,6 +51,7 @@ class Link:
         self._flight: list[tuple[float, int, str, str, int]] = []  # (arrive, seq, dest, kind, value)
         self._seq = 0
         self._peer = {self.a.name: self.b, self.b.name: self.a}
+        self._hosts = {st.name: Host(st, "echo" if st.name in self.echo else "none") for st in (self.a, self.b)}
 
     # -- control -------------------------------------------------------------------
     def power_on(self, at: float | None = None, *, b_at: float | None = None) -> None:
@@ -163,13 +165,7 @@ class Link:
                         if fate == DUPLICATE:
                             self._push(at + 2 * char, dest, kind, byte)
             if st._events:
-                name = st.name
-                events = st.pop_events()
-                self.events.extend((name, e) for e in events)
-                if name in self.echo:
-                    for e in events:
-                        if isinstance(e, Delivered) and e.payload:
-                            st.request_send(t, e.payload)
+                self.events.extend((st.name, e) for e in self._hosts[st.name].drain(t))
 
     # -- views -----------------------------------------------------------------------
     def transcript(self) -> list[tuple[str, bytes]]:
