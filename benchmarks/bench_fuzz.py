@@ -42,13 +42,13 @@ def level1(examples: int) -> None:
 
 
 def level2(seconds: float) -> None:
-    from harness.fuzz import Campaign
-    from harness.profile import reference_profile
-    from harness.runner import RunOptions, Runner
-    from harness.transport import make_factory
+    from ptpcert.fuzz import Campaign
+    from ptpcert.profile import reference_profile
+    from ptpcert.runner import RunOptions, Runner
+    from ptpcert.transport import make_factory
 
     prof = reference_profile()
-    factory = make_factory(f"exec:{sys.executable} -m harness.cli iut --cdt-ms 20 --adt-ms 20 --parmrk", prof)
+    factory = make_factory(f"exec:{sys.executable} -m ptpcert.cli iut --cdt-ms 20 --adt-ms 20 --parmrk", prof)
     camp = Campaign(prof, Runner(factory, prof, RunOptions(check_status=False)), seconds, 1)
     t = time.perf_counter()
     camp.run()

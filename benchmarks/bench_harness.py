@@ -23,10 +23,10 @@ import tempfile
 import time
 from pathlib import Path
 
-from harness.runner import RunOptions, Runner
-from harness.scenario import Expr, Step, Vector
-from harness.transport import make_factory
-from harness.profile import reference_profile
+from ptpcert.runner import RunOptions, Runner
+from ptpcert.scenario import Expr, Step, Vector
+from ptpcert.transport import make_factory
+from ptpcert.profile import reference_profile
 
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable
@@ -80,7 +80,7 @@ def main() -> None:
         return
     out = Path(tempfile.mkdtemp()) / "r.json"
     t = time.monotonic()
-    subprocess.run([PY, "-m", "harness.cli", "run", "--iut", f"exec:{PY} -m harness.cli iut --cdt-ms 20 --adt-ms 20 --parmrk",
+    subprocess.run([PY, "-m", "ptpcert.cli", "run", "--iut", f"exec:{PY} -m ptpcert.cli iut --cdt-ms 20 --adt-ms 20 --parmrk",
                     "--profile", str(ROOT / "conformance/profiles/reference-20ms.toml"), "--json", str(out), "-q"],
                    cwd=ROOT, stdout=subprocess.DEVNULL)
     wall = time.monotonic() - t

@@ -12,9 +12,9 @@ from __future__ import annotations
 import argparse
 import time
 
-from harness.model import Params3964, Station3964
-from harness.model.events import Delivered
-from harness.model.link import Link
+from ptpcert.model import Params3964, Station3964
+from ptpcert.model.events import Delivered
+from ptpcert.model.link import Link
 
 
 def exchanges_per_second(baud, seconds: float, payload: bytes) -> tuple[float, int]:

@@ -17,12 +17,13 @@ import sys
 import time
 from pathlib import Path
 
-from harness import results as R
-from harness.mutants import MUTANTS
-from harness.profile import reference_profile
-from harness.runner import RunOptions, Runner
-from harness.suite import load_suite
-from harness.transport import make_factory
+from ptpcert import results as R
+from ptpcert.mutants import MUTANTS
+from ptpcert.profile import reference_profile
+from ptpcert.runner import RunOptions, Runner
+from ptpcert.scenario import load_vector_sets
+from ptpcert.suite import load_suite
+from ptpcert.transport import make_factory
 
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable
@@ -30,7 +31,7 @@ INDEPENDENT = ROOT / "tests" / "independent" / "iut3964.py"
 
 
 def run(url: str, profile) -> R.RunResult:
-    cases = load_suite(profile.params, ROOT / "vectors")
+    cases = load_suite(profile.params, load_vector_sets())
     factory = make_factory(url, profile)
     runner = Runner(factory, profile, RunOptions(echo=profile.echo, check_status=profile.status_from_stderr))
     res = R.RunResult(tool_version="bench", started="")
@@ -55,7 +56,7 @@ def variants(args):
     for name, m in MUTANTS.items():
         prof = reference_profile(**m.profile)
         if args.exec:
-            url = (f"exec:{PY} -m harness.cli iut --cdt-ms 20 --adt-ms 20 --parmrk "
+            url = (f"exec:{PY} -m ptpcert.cli iut --cdt-ms 20 --adt-ms 20 --parmrk "
                    f"--priority {prof.params.priority} --mutant {name}")
         else:
             url = f"sim:?mutant={name}"

@@ -4,8 +4,8 @@ cites its rule. The golden vectors in ../vectors run with them."""
 
 from __future__ import annotations
 
-from harness.model import Params3964
-from harness.scenario import Vector
+from ptpcert.model import Params3964
+from ptpcert.scenario import Vector
 
 GROUP_MODULES: tuple[str, ...] = ("startup", "idle", "receive", "send", "release", "conflict", "line", "timing")
 
@@ -16,5 +16,5 @@ def cases(params: Params3964) -> list[Vector]:
 
     out: list[Vector] = []
     for name in GROUP_MODULES:
-        out += importlib.import_module(f"conformance.{name}").cases(params)
+        out += importlib.import_module(f"ptpcert.conformance.{name}").cases(params)
     return out

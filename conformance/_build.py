@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from harness.model import Params3964, codec
-from harness.scenario import Expected, Expr, Step, StatusSpec, Vector
-from harness.status import lookup
+from ptpcert.model import Params3964, codec
+from ptpcert.scenario import Expected, Expr, Step, StatusSpec, Vector
+from ptpcert.status import lookup
 
 STX, DLE, ETX, NAK = b"\x02", b"\x10", b"\x03", b"\x15"
 

@@ -5,22 +5,24 @@ from __future__ import annotations
 import argparse
 import fnmatch
 import sys
-from pathlib import Path
 
 from . import __version__
 
 
 def _vectors(args) -> int:
     from .check import check_vector
-    from .paths import default_vectors_dir
-    from .scenario import VectorError, load_dir
+    from .cli_run import vector_set_label
+    from .scenario import VectorError, load_vector_sets
 
-    root = Path(args.dir) if args.dir else default_vectors_dir()
+    extra, only = list(args.vectors), args.vectors_only
+    if args.dir:
+        extra, only = extra + [args.dir], True
     try:
-        vectors = load_dir(root)
+        vectors = load_vector_sets(extra, only=only)
     except VectorError as exc:
         print(f"ptpcert: broken vector: {exc}", file=sys.stderr)
         return 2
+    root = vector_set_label(extra, only)
     if args.select:
         vectors = [v for v in vectors if any(fnmatch.fnmatchcase(v.id, g) for g in args.select)]
     if not args.check:
@@ -82,7 +84,11 @@ def build_parser() -> argparse.ArgumentParser:
 
     v = sub.add_parser("vectors", help="list the golden vectors, or check them against the model")
     v.add_argument("--check", action="store_true", help="replay every vector against the reference model")
-    v.add_argument("--dir", help="vector directory (default: the project's vectors/)")
+    v.add_argument("--vectors", action="append", default=[], metavar="DIR",
+                   help="a directory of vectors in addition to the bundled golden vectors (repeatable)")
+    v.add_argument("--vectors-only", action="store_true",
+                   help="only the vectors of --vectors, not the bundled ones")
+    v.add_argument("--dir", help="only the vectors of this directory (--vectors DIR --vectors-only)")
     v.add_argument("--select", action="append", metavar="GLOB", help="only vectors whose id matches")
     v.add_argument("-v", "--verbose", action="store_true")
     v.set_defaults(func=_vectors)

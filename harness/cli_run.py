@@ -22,8 +22,10 @@ def add_commands(sub) -> None:
     r.add_argument("--junit", metavar="PATH", help="write a JUnit XML file")
     r.add_argument("--json", metavar="PATH", help="write the results object as JSON")
     r.add_argument("--html", metavar="PATH", help="write the HTML report")
-    r.add_argument("--vectors", metavar="DIR", help="vector directory (default: the project's vectors/)")
-    r.add_argument("--vectors-only", action="store_true", help="run only the golden vectors, not the suite")
+    r.add_argument("--vectors", action="append", default=[], metavar="DIR",
+                   help="a directory of vectors to run in addition to the bundled golden vectors (repeatable)")
+    r.add_argument("--vectors-only", action="store_true",
+                   help="run only vectors, not the generated suite: those of --vectors, or the bundled ones")
     r.add_argument("--tolerance-ms", type=float, default=50.0,
                    help="how late a reply may be beyond its window, plus 25%% of the window (default 50)")
     r.add_argument("--startup-timeout", type=float, default=2.0,
@@ -69,7 +71,7 @@ def add_commands(sub) -> None:
     f.add_argument("--budget", type=float, default=60.0, metavar="SECONDS", help="time budget (default 60)")
     f.add_argument("--seed", type=int, default=None, help="seed (printed, so any run can be replayed)")
     f.add_argument("--export", metavar="DIR", default=None,
-                   help="where findings are written as vectors (default: the project's vectors/regressions/)")
+                   help="where findings are written as vectors (default: ./vectors/regressions in the current directory)")
     f.add_argument("--settings", choices=["ptpcert-quick", "ptpcert-thorough"], default="ptpcert-quick",
                    help="hypothesis settings profile (both extend hypothesis's 'ci' profile)")
     f.add_argument("--database", metavar="DIR",
@@ -119,9 +121,8 @@ def _interrupt(*_):
 def cmd_run(args) -> int:
     from . import report as rep
     from . import results as R
-    from .paths import default_vectors_dir
     from .runner import RunOptions, Runner
-    from .scenario import VectorError, vector_set_hash
+    from .scenario import VectorError, load_vector_sets, vector_set_hash
     from .suite import load_suite
 
     if args.edge_attempts < 1:
@@ -130,9 +131,9 @@ def cmd_run(args) -> int:
     profile = _load_profile("run", args.profile)
     if profile is None:
         return 2
-    vdir = Path(args.vectors) if args.vectors else default_vectors_dir()
     try:
-        cases = load_suite(profile.params, vdir, include_suite=not args.vectors_only, select=args.select)
+        vectors = load_vector_sets(args.vectors, only=args.vectors_only)
+        cases = load_suite(profile.params, vectors, include_suite=not args.vectors_only, select=args.select)
     except (VectorError, ValueError) as exc:
         print(f"ptpcert run: {exc}", file=sys.stderr)
         return 2
@@ -148,7 +149,7 @@ def cmd_run(args) -> int:
     runner = Runner(factory, profile, opts)
     result = R.RunResult(tool_version=__version__, started=_now(), iut=args.iut,
                          profile=profile.to_dict(), profile_path=str(args.profile),
-                         vector_set=str(vdir), vector_set_hash=vector_set_hash(cases),
+                         vector_set=vector_set_label(args.vectors, args.vectors_only), vector_set_hash=vector_set_hash(cases),
                          html_path=args.html or "")
 
     def progress(i, n, c):
@@ -170,6 +171,12 @@ def cmd_run(args) -> int:
     if result.counts()[R.ERROR] and result.exit_status() == 0:
         return 2
     return result.exit_status()
+
+
+def vector_set_label(extra, only: bool) -> str:
+    """What the run's vectors are, for the reports."""
+    parts = [] if (only and extra) else ["bundled"]
+    return " + ".join(parts + [str(d) for d in extra])
 
 
 def write_reports(result, args) -> None:
@@ -235,7 +242,7 @@ def cmd_fuzz(args) -> int:
     import time
 
     from .fuzz import Campaign, export
-    from .paths import default_vectors_dir
+    from .paths import findings_dir
     from .runner import RunOptions, Runner
 
     profile = _load_profile("fuzz", args.profile)
@@ -248,7 +255,7 @@ def cmd_fuzz(args) -> int:
     factory = _connect("fuzz", args.iut, profile)
     if factory is None:
         return 2
-    out_dir = args.export or str(default_vectors_dir() / "regressions")
+    out_dir = args.export or str(findings_dir())
     print(f"ptpcert fuzz {__version__}: iut {args.iut}, profile {args.profile}")
     print(f"seed {seed}, settings {args.settings}, budget {args.budget:.0f} s"
           + (f", database {args.database}" if args.database else ""))

@@ -1,18 +1,27 @@
-"""Where the project's data lives when the package runs from a checkout."""
+"""Where the project's data lives: the golden vectors and example profiles ship inside the
+package and are found with importlib.resources, so an installed wheel works from any
+directory; fuzz findings go to the user's current directory, never into the installation."""
 
 from __future__ import annotations
 
-import os
+from importlib import resources
+from importlib.resources.abc import Traversable
 from pathlib import Path
 
-PROJECT = Path(__file__).resolve().parent.parent
+#: Where ``ptpcert fuzz`` writes its findings unless ``--export`` says otherwise.
+FINDINGS_DIR = Path("vectors") / "regressions"
 
 
-def default_vectors_dir() -> Path:
-    env = os.environ.get("PTPCERT_VECTORS")
-    if env:
-        return Path(env)
-    for candidate in (PROJECT / "vectors", Path.cwd() / "vectors"):
-        if candidate.is_dir():
-            return candidate
-    return PROJECT / "vectors"
+def bundled_vectors() -> Traversable:
+    """The golden vectors shipped with ptpcert (one folder per procedure)."""
+    return resources.files("ptpcert.vectors")
+
+
+def bundled_profiles() -> Traversable:
+    """The example IUT profiles shipped with ptpcert."""
+    return resources.files("ptpcert.conformance").joinpath("profiles")
+
+
+def findings_dir() -> Path:
+    """``./vectors/regressions`` in the current directory."""
+    return Path.cwd() / FINDINGS_DIR

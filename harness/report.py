@@ -1,5 +1,5 @@
 """Views of the results object: the console summary and the JUnit XML file (written with
-junit-xml). The HTML report lives in :mod:`harness.html`."""
+junit-xml). The HTML report lives in :mod:`ptpcert.html`."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """The one results object of a run. JSON is its own format; JUnit, HTML and the console
-summary are views of it (:mod:`harness.report`)."""
+summary are views of it (:mod:`ptpcert.report`)."""
 
 from __future__ import annotations
 

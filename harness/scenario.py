@@ -364,12 +364,20 @@ _EXPECTED_KEYS = {"iut_status", "iut_status_optional", "tester_status", "tester_
 def load_vector(path: str | Path) -> Vector:
     path = Path(path)
     try:
-        raw = tomllib.loads(path.read_text("utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise VectorError(str(path), "", f"not valid TOML: {exc}") from None
+        text = path.read_text("utf-8")
+    except UnicodeDecodeError:
+        raise VectorError(str(path), "", "is not UTF-8 text (save the vector as UTF-8)") from None
     except OSError as exc:
         raise VectorError(str(path), "", f"cannot be read: {exc.strerror}") from None
-    return vector_from_dict(raw, str(path))
+    return load_vector_text(text, str(path))
+
+
+def load_vector_text(text: str, source: str) -> Vector:
+    try:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise VectorError(source, "", f"not valid TOML: {exc}") from None
+    return vector_from_dict(raw, source)
 
 
 def vector_from_dict(raw: dict[str, Any], source: str = "<vector>") -> Vector:
@@ -585,20 +593,66 @@ def _expected(raw: Any, err) -> Expected:
                     blocks("sent"), blocks("echo_after"))
 
 
-def load_dir(root: str | Path, recursive: bool = True) -> list[Vector]:
-    """Every ``*.toml`` vector under ``root`` (sorted by path); ids must be unique."""
-    root = Path(root)
+def _toml_files(root, prefix: str) -> list[tuple[str, object]]:
+    """(name for messages, file) of every ``*.toml`` under ``root``, a directory or an
+    importlib.resources Traversable, sorted by path."""
+    out = []
+    for entry in sorted(root.iterdir(), key=lambda e: e.name):
+        name = f"{prefix}/{entry.name}" if prefix else entry.name
+        if entry.is_dir():
+            if not entry.name.startswith((".", "__")):
+                out += _toml_files(entry, name)
+        elif entry.name.endswith(".toml"):
+            out.append((name, entry))
+    return out
+
+
+def load_dir(root, label: str | None = None) -> list[Vector]:
+    """Every ``*.toml`` vector under ``root`` (a directory or an importlib.resources
+    Traversable; sorted by path); ids must be unique. ``label`` names the root in
+    messages and in each vector's ``source`` (default: the path)."""
+    if isinstance(root, str):
+        root = Path(root)
     if not root.is_dir():
         raise VectorError(str(root), "", "is not a directory of vectors")
-    files = sorted(root.rglob("*.toml") if recursive else root.glob("*.toml"))
+    base = str(root) if label is None else label
     out: list[Vector] = []
     seen: dict[str, str] = {}
-    for f in files:
-        v = load_vector(f)
+    for rel, f in _toml_files(root, ""):
+        where = f"{base}/{rel}"
+        try:
+            text = f.read_text("utf-8")
+        except UnicodeDecodeError:
+            raise VectorError(where, "", "is not UTF-8 text (save the vector as UTF-8)") from None
+        except OSError as exc:
+            raise VectorError(where, "", f"cannot be read: {exc.strerror}") from None
+        v = load_vector_text(text, where)
         if v.id in seen:
-            raise VectorError(str(f), "id", f"{v.id!r} is also the id of {seen[v.id]}")
-        seen[v.id] = str(f)
+            raise VectorError(where, "id", f"{v.id!r} is also the id of {seen[v.id]}")
+        seen[v.id] = where
         out.append(v)
+    return out
+
+
+def load_vector_sets(extra=(), *, only: bool = False) -> list[Vector]:
+    """The bundled golden vectors plus those of the directories ``extra``; with ``only``,
+    just those of ``extra`` (or just the bundled ones when ``extra`` is empty). Ids must be
+    unique across all of them."""
+    from .paths import bundled_vectors
+
+    sets: list[list[Vector]] = []
+    if not (only and extra):
+        sets.append(load_dir(bundled_vectors(), "vectors"))
+    for d in extra:
+        sets.append(load_dir(Path(d)))
+    out: list[Vector] = []
+    seen: dict[str, str] = {}
+    for vs in sets:
+        for v in vs:
+            if v.id in seen:
+                raise VectorError(v.source, "id", f"{v.id!r} is also the id of {seen[v.id]}")
+            seen[v.id] = v.source
+            out.append(v)
     return out
 
 

@@ -65,7 +65,7 @@ def parse_code(text: str | int) -> int:
 
 @lru_cache(maxsize=1)
 def catalogue() -> dict[int, StatusEvent]:
-    raw = tomllib.loads(resources.files("harness").joinpath("status_catalogue.toml").read_text("utf-8"))
+    raw = tomllib.loads(resources.files("ptpcert").joinpath("status_catalogue.toml").read_text("utf-8"))
     classes = raw["classes"]
     out: dict[int, StatusEvent] = {}
     for e in raw["event"]:

@@ -4,17 +4,15 @@ selected by id globs and ordered so that long waits come last."""
 from __future__ import annotations
 
 import fnmatch
-from pathlib import Path
 
 from .model import Params3964
-from .scenario import GROUPS, Vector, load_dir
+from .scenario import GROUPS, Vector
 
 
-def load_suite(params: Params3964, vectors_dir: str | Path, *, include_suite: bool = True,
+def load_suite(params: Params3964, vectors: list[Vector], *, include_suite: bool = True,
                select: list[str] | None = None) -> list[Vector]:
-    vectors = load_dir(vectors_dir)
     if include_suite:
-        import conformance
+        import ptpcert.conformance as conformance
         vectors = vectors + conformance.cases(params)
     seen: dict[str, Vector] = {}
     for v in vectors:

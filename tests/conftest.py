@@ -13,7 +13,7 @@ import os
 from hypothesis import settings
 from hypothesis.database import DirectoryBasedExampleDatabase
 
-import harness.fuzz  # noqa: F401  (registers ptpcert-quick and ptpcert-thorough)
+import ptpcert.fuzz  # noqa: F401  (registers ptpcert-quick and ptpcert-thorough)
 
 _profile = os.environ.get("PTPCERT_HYPOTHESIS_PROFILE", "ptpcert-quick")
 _db = os.environ.get("PTPCERT_HYPOTHESIS_DB")

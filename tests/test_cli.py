@@ -10,7 +10,7 @@ PY = sys.executable
 
 
 def cli(*args):
-    return subprocess.run([PY, "-m", "harness.cli", *args], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    return subprocess.run([PY, "-m", "ptpcert.cli", *args], cwd=ROOT, capture_output=True, text=True, timeout=300)
 
 
 def test_status_lookup_in_every_notation():

@@ -4,8 +4,8 @@
 import pytest
 from hypothesis import given, strategies as st
 
-from harness.model import codec
-from harness.model.codec import DLE, FrameError, bcc, body, frame, parse, parse_body, parse_hex, stuff, unstuff
+from ptpcert.model import codec
+from ptpcert.model.codec import DLE, FrameError, bcc, body, frame, parse, parse_body, parse_hex, stuff, unstuff
 
 P1 = parse_hex("31 10 32 15 03")
 

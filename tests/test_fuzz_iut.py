@@ -10,12 +10,12 @@ from pathlib import Path
 import pytest
 from hypothesis import Phase, given, settings, strategies as st
 
-from harness import results as R
-from harness.fuzz import Generator, rule_for
-from harness.profile import reference_profile
-from harness.runner import RunOptions, Runner
-from harness.scenario import load_dir
-from harness.transport import make_factory
+from ptpcert import results as R
+from ptpcert.fuzz import Generator, rule_for
+from ptpcert.profile import reference_profile
+from ptpcert.runner import RunOptions, Runner
+from ptpcert.scenario import load_dir
+from ptpcert.transport import make_factory
 
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable
@@ -23,7 +23,7 @@ PROFILE = ROOT / "conformance" / "profiles" / "reference-20ms.toml"
 
 
 def fuzz(*args, timeout=300):
-    return subprocess.run([PY, "-m", "harness.cli", "fuzz", *args], cwd=ROOT, capture_output=True, text=True,
+    return subprocess.run([PY, "-m", "ptpcert.cli", "fuzz", *args], cwd=ROOT, capture_output=True, text=True,
                           timeout=timeout)
 
 
@@ -45,6 +45,7 @@ def test_generated_examples_agree_with_the_model(proc, prio):
     check()
 
 
+@pytest.mark.realtime
 def test_unbroken_model_yields_nothing(tmp_path):
     p = fuzz("--iut", "sim:", "--profile", str(PROFILE), "--budget", "6", "--seed", "5", "--export", str(tmp_path))
     assert p.returncode == 0, p.stdout[-3000:] + p.stderr
@@ -52,6 +53,7 @@ def test_unbroken_model_yields_nothing(tmp_path):
     assert not list(tmp_path.glob("*.toml"))
 
 
+@pytest.mark.realtime
 @pytest.mark.parametrize("mutant", ["bcc-not-checked", "setup-attempts-plus-one", "no-quiet-before-nak"])
 def test_broken_variant_yields_a_shrunk_finding_saved_as_a_vector(tmp_path, mutant):
     p = fuzz("--iut", f"sim:?mutant={mutant}", "--profile", str(PROFILE), "--budget", "12", "--seed", "3",
@@ -69,11 +71,12 @@ def test_broken_variant_yields_a_shrunk_finding_saved_as_a_vector(tmp_path, muta
             res = Runner(make_factory(url, prof), prof, RunOptions()).run_case(v)
             assert res.verdict == want, (url, res.message)
     # ordinary vectors: `ptpcert vectors --check` loads them and the model passes them
-    chk = subprocess.run([PY, "-m", "harness.cli", "vectors", "--check", "--dir", str(tmp_path)], cwd=ROOT,
+    chk = subprocess.run([PY, "-m", "ptpcert.cli", "vectors", "--check", "--dir", str(tmp_path)], cwd=ROOT,
                          capture_output=True, text=True)
     assert chk.returncode == 0 and f"{len(files)} passed, 0 failed" in chk.stdout
 
 
+@pytest.mark.realtime
 def test_a_run_replays_from_its_seed(tmp_path):
     outs = []
     for d in ("a", "b"):
@@ -84,6 +87,7 @@ def test_a_run_replays_from_its_seed(tmp_path):
     assert outs[0] and outs[0] == outs[1]
 
 
+@pytest.mark.realtime
 def test_bad_usage(tmp_path):
     assert fuzz("--iut", "sim:", "--profile", str(tmp_path / "none.toml")).returncode == 2
     assert fuzz("--iut", "sim:", "--profile", str(PROFILE), "--budget", "0").returncode == 2

@@ -23,11 +23,11 @@ from collections import Counter
 from hypothesis import note, strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, precondition, rule
 
-import harness.fuzz  # noqa: F401  (registers the settings profiles)
-from harness.model import Params3964, Station3964, codec, table as T
-from harness.model.events import Delivered, SendDone, SendFailed, Status
-from harness.model.link import CORRUPT, DELIVER, DROP, DUPLICATE, Link
-from harness.model.params import T_BLOCK, T_NAKTIM
+import ptpcert.fuzz  # noqa: F401  (registers the settings profiles)
+from ptpcert.model import Params3964, Station3964, codec, table as T
+from ptpcert.model.events import Delivered, SendDone, SendFailed, Status
+from ptpcert.model.link import CORRUPT, DELIVER, DROP, DUPLICATE, Link
+from ptpcert.model.params import T_BLOCK, T_NAKTIM
 
 CONTROL = [0x10, 0x02, 0x03, 0x15, 0x00]
 byte = st.one_of(st.sampled_from(CONTROL), st.integers(0, 255))

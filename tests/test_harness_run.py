@@ -17,14 +17,14 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable
 PROFILE = ROOT / "conformance" / "profiles" / "reference-20ms.toml"
-IUT = f"{PY} -m harness.cli iut --cdt-ms 20 --adt-ms 20 --parmrk"
+IUT = f"{PY} -m ptpcert.cli iut --cdt-ms 20 --adt-ms 20 --parmrk"
 INDEPENDENT = f"{PY} {ROOT / 'tests' / 'independent' / 'iut3964.py'} --cdt-ms 20 --adt-ms 20 --parmrk"
 SAMPLE = ["3964R.FIG2-6.RECEIVE", "3964R.FIG2-7.PARITY", "3964R.D03.*", "3964R.D10.*",
           "3964R.D14.*", "3964R.D21.*", "3964R.FIG2-8.CONFLICT-IUT-LOW", "3964R.D01.*"]
 
 
 def ptpcert(*args, timeout=240, **kw):
-    return subprocess.run([PY, "-m", "harness.cli", *args], cwd=ROOT, capture_output=True, text=True,
+    return subprocess.run([PY, "-m", "ptpcert.cli", *args], cwd=ROOT, capture_output=True, text=True,
                           timeout=timeout, **kw)
 
 
@@ -47,6 +47,7 @@ def verdicts(data):
     return {c["id"]: c["verdict"] for c in data["cases"]}
 
 
+@pytest.mark.realtime
 @pytest.mark.parametrize("scheme", ["exec", "pty"])
 def test_reference_implementation_passes(tmp_path, scheme):
     iut = f"exec:{IUT}" if scheme == "exec" else f"pty:{IUT} --port {{port}}"
@@ -66,6 +67,7 @@ def test_reference_implementation_passes(tmp_path, scheme):
     assert "[1/" in p.stdout and "overall PASS" in p.stdout
 
 
+@pytest.mark.realtime
 def test_independent_correct_implementation_passes(tmp_path):
     p, data, _ = run_json(tmp_path, f"exec:{INDEPENDENT}", globs=["3964R.*"], profile=PROFILE)
     assert p.returncode == 0, p.stdout[-3000:]
@@ -78,6 +80,7 @@ def test_independent_correct_implementation_passes(tmp_path):
     ("setup-attempts-plus-one", "3964R.D10.SETUP-TIMEOUT"),
     ("parity-nak-immediate", "3964R.FIG2-7.PARITY"),
 ])
+@pytest.mark.realtime
 def test_independent_broken_implementation_fails_with_the_right_case(tmp_path, variant, caught):
     p, data, _ = run_json(tmp_path, f"exec:{INDEPENDENT} --break {variant}",
                           globs=[caught, "3964R.D02.*", "3964R.FIG2-6.RECEIVE"])
@@ -99,6 +102,7 @@ def _alive(pid: int) -> bool:
         return False
 
 
+@pytest.mark.realtime
 def test_crashing_iut_fails_the_case_and_the_run_goes_on(tmp_path):
     p, data, _ = run_json(tmp_path, f"exec:{PY} tests/fakes/crash.py",
                           globs=["3964R.D03.*", "3964R.D04.*"])
@@ -109,6 +113,7 @@ def test_crashing_iut_fails_the_case_and_the_run_goes_on(tmp_path):
         assert "crashing now" in c["stderr_tail"]
 
 
+@pytest.mark.realtime
 def test_hanging_iut_is_killed(tmp_path):
     pids = tmp_path / "pids"
     t = time.monotonic()
@@ -121,6 +126,7 @@ def test_hanging_iut_is_killed(tmp_path):
     assert not any(_alive(pid) for pid in listed)
 
 
+@pytest.mark.realtime
 def test_flooding_iut_fails_quickly(tmp_path):
     t = time.monotonic()
     p, data, _ = run_json(tmp_path, f"exec:{PY} tests/fakes/flood.py", globs=["3964R.D02.*", "3964R.D03.*"])
@@ -131,12 +137,14 @@ def test_flooding_iut_fails_quickly(tmp_path):
         assert "more than" in c["message"] or "expected" in c["message"]
 
 
+@pytest.mark.realtime
 def test_iut_that_never_starts_is_a_usage_error(tmp_path):
     p = ptpcert("run", "--iut", "exec:no-such-command-xyz", "--profile", str(PROFILE))
     assert p.returncode == 2
     assert "exited with status 127" in p.stderr or "ended at start-up" in p.stderr
 
 
+@pytest.mark.realtime
 def test_bad_profile_and_bad_url_are_usage_errors(tmp_path):
     bad = tmp_path / "p.toml"
     bad.write_text(PROFILE.read_text().replace('parity = "even"', 'parity = "mark"'))
@@ -150,6 +158,7 @@ def test_bad_profile_and_bad_url_are_usage_errors(tmp_path):
     assert p.returncode == 2 and "no case matches" in p.stderr
 
 
+@pytest.mark.realtime
 def test_silent_iut_fails_without_hanging(tmp_path):
     t = time.monotonic()
     p, data, _ = run_json(tmp_path, f"exec:{PY} tests/fakes/silent.py", globs=["3964R.D01.*", "3964R.D03.*"])
@@ -158,9 +167,10 @@ def test_silent_iut_fails_without_hanging(tmp_path):
     assert set(verdicts(data).values()) == {"fail"}
 
 
+@pytest.mark.realtime
 def test_reports_are_written_when_interrupted(tmp_path):
     j, x = tmp_path / "r.json", tmp_path / "j.xml"
-    proc = subprocess.Popen([PY, "-m", "harness.cli", "run", "--iut", f"exec:{IUT}", "--profile", str(PROFILE),
+    proc = subprocess.Popen([PY, "-m", "ptpcert.cli", "run", "--iut", f"exec:{IUT}", "--profile", str(PROFILE),
                              "--json", str(j), "--junit", str(x)], cwd=ROOT, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
     time.sleep(3.0)
@@ -184,6 +194,7 @@ def test_sim_transport_runs_everything_in_virtual_time(tmp_path):
     assert verdicts(data)["3964R.D05.NO-FREE-BUFFER"] == "pass"
 
 
+@pytest.mark.realtime
 def test_expected_failures_give_xfail_and_xpass(tmp_path):
     prof = tmp_path / "p.toml"
     prof.write_text(PROFILE.read_text() + '"3964R.D02.NAK-IN-IDLE" = "pretend bug 1"\n'
@@ -206,10 +217,11 @@ def _edge_run(tmp_path, case_id, k, **opts):
     CDT is 200 ms here, not 20: at 20 ms the broken IUT's NAK (10 ms) and the window it
     must miss (from about 16 ms) are only 4 ms apart, which a loaded machine can bridge;
     at 200 ms the broken and the sound IUT are tens of milliseconds from every edge."""
-    from harness.profile import load_profile
-    from harness.runner import RunOptions, Runner
-    from harness.suite import load_suite
-    from harness.transport import make_factory
+    from ptpcert.profile import load_profile
+    from ptpcert.runner import RunOptions, Runner
+    from ptpcert.scenario import load_vector_sets
+    from ptpcert.suite import load_suite
+    from ptpcert.transport import make_factory
 
     prof = tmp_path / "cdt200.toml"
     prof.write_text(PROFILE.read_text().replace("character_delay_ms = 20\n", "character_delay_ms = 200\n"))
@@ -218,7 +230,7 @@ def _edge_run(tmp_path, case_id, k, **opts):
     counter = tmp_path / f"starts-{case_id}-{k}"
     url = f"exec:{PY} {ROOT / 'tests' / 'fakes' / 'early_first.py'} {counter} {k} --cdt-ms 200 --adt-ms 20 --parmrk"
     factory = make_factory(url, profile, prespawn=0)  # one process per attempt, started in order
-    (case,) = load_suite(profile.params, ROOT / "vectors", select=[case_id])
+    (case,) = load_suite(profile.params, load_vector_sets(), select=[case_id])
     try:
         res = Runner(factory, profile, RunOptions(retry_pause=(0.01,), timing_retries=20, **opts)).run_case(case)
     finally:
@@ -228,6 +240,7 @@ def _edge_run(tmp_path, case_id, k, **opts):
     return res, starts, res.attempts - sum("voided" in n for n in res.notes)
 
 
+@pytest.mark.realtime
 def test_a_timer_edge_case_passes_once_one_attempt_passes(tmp_path):
     res, starts, judged = _edge_run(tmp_path, "SUITE.TIMING.FIRST-CHARACTER-AT-80-CDT", k=3)
     assert res.verdict == "pass", (res.message, res.notes)
@@ -236,6 +249,7 @@ def test_a_timer_edge_case_passes_once_one_attempt_passes(tmp_path):
     assert f"passed on attempt {starts} after {failed} failed attempt(s)" in res.message
 
 
+@pytest.mark.realtime
 def test_a_timer_edge_failure_stands_when_every_attempt_fails(tmp_path):
     res, _, judged = _edge_run(tmp_path, "SUITE.TIMING.FIRST-CHARACTER-AT-80-CDT", k=99, edge_attempts=3)
     assert res.verdict == "fail" and judged == 3
@@ -244,6 +258,7 @@ def test_a_timer_edge_failure_stands_when_every_attempt_fails(tmp_path):
     assert res.verdict == "fail" and judged == 1
 
 
+@pytest.mark.realtime
 def test_a_timing_failure_away_from_a_timer_edge_is_confirmed_once(tmp_path):
     # the NAK comes at half the CDT: a failure by timing alone is reproduced once, not
     # edge_attempts times
@@ -252,6 +267,7 @@ def test_a_timing_failure_away_from_a_timer_edge_is_confirmed_once(tmp_path):
     assert "too early" in res.message and sum("failed by timing only" in n for n in res.notes) == 1
 
 
+@pytest.mark.realtime
 def test_a_failure_in_the_bytes_away_from_a_timer_edge_is_not_run_again(tmp_path):
     # a 3964R receiver that times out before the BCC answers NAK instead of DLE: wrong bytes
     res, _, judged = _edge_run(tmp_path, "SUITE.RECEIVE.3964R-WAITS-FOR-BCC", k=99)

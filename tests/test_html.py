@@ -20,15 +20,15 @@ from pathlib import Path
 
 import pytest
 
-from harness import html as H
-from harness import results as R
-from harness.paths import default_vectors_dir
-from harness.profile import load_profile
-from harness.report import anchor
-from harness.runner import RunOptions, Runner
-from harness.scenario import vector_set_hash
-from harness.suite import load_suite
-from harness.transport import make_factory
+from ptpcert import html as H
+from ptpcert import results as R
+from ptpcert.scenario import load_vector_sets
+from ptpcert.profile import load_profile
+from ptpcert.report import anchor
+from ptpcert.runner import RunOptions, Runner
+from ptpcert.scenario import vector_set_hash
+from ptpcert.suite import load_suite
+from ptpcert.transport import make_factory
 
 ROOT = Path(__file__).resolve().parent.parent
 PROFILE = ROOT / "conformance" / "profiles" / "reference-20ms.toml"
@@ -40,12 +40,11 @@ MB2 = 2 * 1024 * 1024
 def sim_run(profile=None, select=None) -> R.RunResult:
     """The suite against the reference model in-process (virtual time: well under a second)."""
     profile = profile or load_profile(PROFILE)
-    vdir = default_vectors_dir()
-    cases = load_suite(profile.params, vdir, select=select)
+    cases = load_suite(profile.params, load_vector_sets(), select=select)
     factory = make_factory("sim:", profile)
     runner = Runner(factory, profile, RunOptions(echo=profile.echo, check_status=profile.status_from_stderr))
     result = R.RunResult(tool_version="test", started="2026-01-01T00:00:00+00:00", iut="sim:",
-                         profile=profile.to_dict(), profile_path=str(PROFILE), vector_set=str(vdir),
+                         profile=profile.to_dict(), profile_path=str(PROFILE), vector_set="bundled",
                          vector_set_hash=vector_set_hash(cases))
     try:
         runner.run(cases, result)
@@ -419,7 +418,7 @@ def test_full_suite_and_large_cases_stay_under_2mb(full_run):
 
 
 def test_cli_report_renders_saved_results(full_run, tmp_path):
-    from harness.cli_run import cmd_report
+    from ptpcert.cli_run import cmd_report
 
     j = tmp_path / "r.json"
     mixed_run(full_run).write_json(j)
@@ -440,6 +439,7 @@ def test_interrupted_run_and_empty_cases():
 
 
 # ------------------------------------------------------------------ a person's view
+@pytest.mark.realtime
 def test_screenshot_in_headless_chromium(full_run):
     if not CHROMIUM.exists():
         pytest.skip("/usr/bin/chromium is not installed (Debian package 'chromium'); "

@@ -3,10 +3,10 @@
 
 import pytest
 
-from harness.model import Params3964, Station3964, codec, events as ev
-from harness.model.codec import DLE, NAK, STX, parse_hex
-from harness.model.events import Delivered, SendDone, SendFailed, Status
-from harness.model.link import CORRUPT, DELIVER, DROP, Link
+from ptpcert.model import Params3964, Station3964, codec, events as ev
+from ptpcert.model.codec import DLE, NAK, STX, parse_hex
+from ptpcert.model.events import Delivered, SendDone, SendFailed, Status
+from ptpcert.model.link import CORRUPT, DELIVER, DROP, Link
 
 P1 = parse_hex("31 10 32 15 03")
 P2 = parse_hex("41 42 10")

@@ -2,7 +2,7 @@
 
 import pytest
 
-from harness.model import ParameterError, Params3964
+from ptpcert.model import ParameterError, Params3964
 
 
 def test_defaults_are_the_manuals():

@@ -10,23 +10,23 @@ from pathlib import Path
 
 import pytest
 
-import conformance
-from harness import results as R
-from harness.mutants import MUTANTS
-from harness.profile import reference_profile
-from harness.runner import RunOptions, Runner
-from harness.scenario import GROUPS
-from harness.suite import load_suite
-from harness.transport import make_factory
+import ptpcert.conformance as conformance
+from ptpcert import results as R
+from ptpcert.mutants import MUTANTS
+from ptpcert.profile import reference_profile
+from ptpcert.runner import RunOptions, Runner
+from ptpcert.scenario import GROUPS
+from ptpcert.scenario import load_vector_sets
+from ptpcert.suite import load_suite
+from ptpcert.transport import make_factory
 
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable
-VECTORS = ROOT / "vectors"
 COMBOS = [(proc, prio) for proc in ("3964R", "3964") for prio in ("low", "high")]
 
 
 def run_sim(url: str, profile) -> R.RunResult:
-    cases = load_suite(profile.params, VECTORS)
+    cases = load_suite(profile.params, load_vector_sets())
     res = R.RunResult(tool_version="test", started="")
     Runner(make_factory(url, profile), profile, RunOptions()).run(cases, res)
     return res
@@ -73,12 +73,12 @@ def test_every_mutant_is_caught(name, record_property):
 
 
 def test_mutants_are_listed_with_their_rule():
-    p = subprocess.run([PY, "-m", "harness.cli", "iut", "--list-mutants"], cwd=ROOT, capture_output=True, text=True)
+    p = subprocess.run([PY, "-m", "ptpcert.cli", "iut", "--list-mutants"], cwd=ROOT, capture_output=True, text=True)
     assert p.returncode == 0
     assert len(p.stdout.splitlines()) == len(MUTANTS) >= 20
     for name, m in MUTANTS.items():
         assert name in p.stdout and "§" in m.rule or "Table" in m.rule
-    p = subprocess.run([PY, "-m", "harness.cli", "iut", "--mutant", "no-such"], cwd=ROOT, capture_output=True, text=True)
+    p = subprocess.run([PY, "-m", "ptpcert.cli", "iut", "--mutant", "no-such"], cwd=ROOT, capture_output=True, text=True)
     assert p.returncode == 2 and "unknown mutant" in p.stderr
 
 
@@ -89,14 +89,14 @@ def ptpcert_run(tmp_path, iut, profile, *extra):
     lines = ["[iut]"] + [f"{k} = {json.dumps(v)}" for k, v in d.items()] + ["[expected_failures]"]
     prof.write_text("\n".join(lines) + "\n")
     j = tmp_path / "r.json"
-    p = subprocess.run([PY, "-m", "harness.cli", "run", "--iut", iut, "--profile", str(prof), "--json", str(j), "-q",
+    p = subprocess.run([PY, "-m", "ptpcert.cli", "run", "--iut", iut, "--profile", str(prof), "--json", str(j), "-q",
                         *extra], cwd=ROOT, capture_output=True, text=True, timeout=600)
     return p, json.loads(j.read_text())
 
 
 def reference_iut(profile, scheme="exec", mutant=None):
     p = profile.params
-    cmd = (f"{PY} -m harness.cli iut --procedure {p.procedure} --priority {p.priority} --cdt-ms {p.cdt_ms} "
+    cmd = (f"{PY} -m ptpcert.cli iut --procedure {p.procedure} --priority {p.priority} --cdt-ms {p.cdt_ms} "
            f"--adt-ms {p.adt_ms} --parmrk" + (f" --mutant {mutant}" if mutant else ""))
     return f"exec:{cmd}" if scheme == "exec" else f"pty:{cmd} --port {{port}}"
 
@@ -104,6 +104,7 @@ def reference_iut(profile, scheme="exec", mutant=None):
 @pytest.mark.parametrize("proc,prio,scheme", [("3964R", "low", "exec"), ("3964R", "low", "pty"),
                                                ("3964R", "high", "exec"), ("3964", "low", "exec"),
                                                ("3964", "high", "pty")])
+@pytest.mark.realtime
 def test_full_suite_passes_the_real_time_reference(tmp_path, proc, prio, scheme):
     prof = reference_profile(procedure=proc, priority=prio)
     p, data = ptpcert_run(tmp_path, reference_iut(prof, scheme), prof)
@@ -118,6 +119,7 @@ def test_full_suite_passes_the_real_time_reference(tmp_path, proc, prio, scheme)
 
 @pytest.mark.parametrize("mutant", ["cdt-half", "adt-half", "parity-error-nak-at-once", "high-priority-yields",
                                     "idle-nak-without-quiet-wait", "retry-after-break"])
+@pytest.mark.realtime
 def test_real_time_mutants_are_caught(tmp_path, mutant):
     prof = reference_profile(**MUTANTS[mutant].profile)
     p, data = ptpcert_run(tmp_path, reference_iut(prof, mutant=mutant), prof, "--max-failures", "1")
@@ -136,6 +138,7 @@ def independent_variants():
     return [line.split()[0] for line in out.splitlines() if line.strip()]
 
 
+@pytest.mark.realtime
 def test_independent_correct_implementation_passes_the_suite(tmp_path):
     prof = reference_profile()
     p, data = ptpcert_run(tmp_path, f"exec:{INDEPENDENT}", prof)
@@ -143,6 +146,7 @@ def test_independent_correct_implementation_passes_the_suite(tmp_path):
     assert p.returncode == 0 and not bad, bad
 
 
+@pytest.mark.realtime
 @pytest.mark.parametrize("variant", independent_variants())
 def test_independent_broken_implementations_fail(tmp_path, variant):
     prof = reference_profile(priority="high" if "prio" in variant else "low")

@@ -6,8 +6,8 @@ state the row allows. Rows marked impossible must be refused with ModelError."""
 
 import pytest
 
-from harness.model import ModelError, Params3964, Station3964, table as T
-from harness.model.codec import DLE, ETX, NAK, STX
+from ptpcert.model import ModelError, Params3964, Station3964, table as T
+from ptpcert.model.codec import DLE, ETX, NAK, STX
 
 P = Params3964(cdt_ms=20, adt_ms=20)
 CHAR = {T.STX: STX, T.DLE: DLE, T.ETX: ETX, T.NAK: NAK, T.OTHER: 0x41}

@@ -12,15 +12,15 @@ from pathlib import Path
 
 import pytest
 
-from harness.iut import ParmrkDecoder
-from harness.profile import ProfileError, load_profile, profile_from_dict, reference_profile
-from harness.transport import BREAK, CHAR_ERROR, RESTART, STATUS, TransportError, make_factory
-from harness.transport.base import IUTDied, StatusParser
-from harness.transport.process import ExecTransport, PtyTransport
+from ptpcert.iut import ParmrkDecoder
+from ptpcert.profile import ProfileError, load_profile, profile_from_dict, reference_profile
+from ptpcert.transport import BREAK, CHAR_ERROR, RESTART, STATUS, TransportError, make_factory
+from ptpcert.transport.base import IUTDied, StatusParser
+from ptpcert.transport.process import ExecTransport, PtyTransport
 
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable
-IUT = f"{PY} -m harness.cli iut --cdt-ms 20 --adt-ms 20 --parmrk"
+IUT = f"{PY} -m ptpcert.cli iut --cdt-ms 20 --adt-ms 20 --parmrk"
 
 
 def read_until(tr, n, timeout=5.0):
@@ -31,6 +31,7 @@ def read_until(tr, n, timeout=5.0):
     return out
 
 
+@pytest.mark.realtime
 @pytest.mark.parametrize("cls,cmd", [(ExecTransport, IUT), (PtyTransport, IUT + " --port {port}")])
 def test_process_transports_carry_a_block_and_status(cls, cmd):
     tr = cls(cmd, parmrk=True, status=True)
@@ -53,6 +54,7 @@ def test_process_transports_carry_a_block_and_status(cls, cmd):
     assert info.returncode is not None
 
 
+@pytest.mark.realtime
 def test_exec_marks_line_conditions_in_band():
     tr = ExecTransport(IUT, parmrk=True, status=True)
     tr.open()
@@ -71,6 +73,7 @@ def test_exec_marks_line_conditions_in_band():
         tr.close()
 
 
+@pytest.mark.realtime
 def test_exec_without_parmrk_cannot_carry_line_conditions():
     tr = ExecTransport(IUT, parmrk=False, status=False)
     assert BREAK not in tr.capabilities and STATUS not in tr.capabilities
@@ -78,6 +81,7 @@ def test_exec_without_parmrk_cannot_carry_line_conditions():
         tr.send_break(0.01)
 
 
+@pytest.mark.realtime
 def test_exec_reports_a_dead_iut():
     tr = ExecTransport(f"{PY} -c 'import os; os.write(1, bytes([21]))'", parmrk=False, status=True)
     tr.open()
@@ -103,6 +107,7 @@ def test_status_parser():
     assert "hello" in p.tail()
 
 
+@pytest.mark.realtime
 def test_loop_url_transport():
     f = make_factory("loop://", reference_profile())
     assert BREAK not in f.capabilities and RESTART not in f.capabilities
@@ -163,14 +168,15 @@ class Bridge:
         self.srv.close()
 
 
+@pytest.mark.realtime
 def test_socket_url_runs_cases_against_a_persistent_iut(tmp_path):
-    bridge = Bridge(f"exec {PY} -m harness.cli iut --cdt-ms 20 --adt-ms 20")
+    bridge = Bridge(f"exec {PY} -m ptpcert.cli iut --cdt-ms 20 --adt-ms 20")
     prof = tmp_path / "p.toml"
     prof.write_text((ROOT / "conformance/profiles/reference-20ms.toml").read_text()
                     .replace('line_conditions = "parmrk"', 'line_conditions = "none"')
                     .replace("status_from_stderr = true", "status_from_stderr = false"))
     try:
-        p = subprocess.run([PY, "-m", "harness.cli", "run", "--iut", f"socket://127.0.0.1:{bridge.port}",
+        p = subprocess.run([PY, "-m", "ptpcert.cli", "run", "--iut", f"socket://127.0.0.1:{bridge.port}",
                             "--profile", str(prof), "--vectors-only", "--select", "3964R.FIG2-6.*",
                             "--select", "3964R.D03.*", "--select", "3964R.D01.*", "--select", "3964R.D21.*",
                             "--select", "3964R.FIG2-7.REPETITION"],

@@ -2,14 +2,16 @@
 and the coverage of the wire-observable STATUS codes (3964r.md §14)."""
 
 
+from pathlib import Path
+
 import pytest
 
-from harness.check import check_vector
-from harness.paths import default_vectors_dir
-from harness.scenario import (Expr, ExprError, VectorError, dump_vector, load_dir, load_vector,
+from ptpcert.check import check_vector
+from ptpcert.scenario import (Expr, ExprError, VectorError, dump_vector, load_dir, load_vector, load_vector_sets,
                               parse_vector_hex, vector_from_dict, vector_hex)
 
-VECTORS = load_dir(default_vectors_dir())
+ROOT = Path(__file__).resolve().parent.parent
+VECTORS = load_vector_sets()
 GOLDEN = [v for v in VECTORS if v.group != "regression"]
 
 
@@ -111,8 +113,8 @@ def test_broken_file_reports_its_path(tmp_path):
     f.write_text("id = \n")
     with pytest.raises(VectorError, match="bad.toml: not valid TOML"):
         load_vector(f)
-    (tmp_path / "a.toml").write_text((default_vectors_dir() / "3964r" / "d02-nak-in-idle.toml").read_text())
-    (tmp_path / "b.toml").write_text((default_vectors_dir() / "3964r" / "d02-nak-in-idle.toml").read_text())
+    (tmp_path / "a.toml").write_text((ROOT / "vectors" / "3964r" / "d02-nak-in-idle.toml").read_text())
+    (tmp_path / "b.toml").write_text((ROOT / "vectors" / "3964r" / "d02-nak-in-idle.toml").read_text())
     f.unlink()
     with pytest.raises(VectorError, match="also the id of"):
         load_dir(tmp_path)
@@ -147,7 +149,7 @@ def test_dump_and_load_roundtrip(v, tmp_path):
 def test_both_sides_of_the_conflict_figures_are_checked():
     from dataclasses import replace
 
-    from harness.check import check_both_sides
+    from ptpcert.check import check_both_sides
     fig = next(v for v in VECTORS if v.id == "3964R.FIG2-8.CONFLICT-IUT-LOW")
     ok = check_both_sides(fig)
     assert ok is not None and ok.ok, ok.result.message

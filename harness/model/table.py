@@ -2,12 +2,12 @@
 
 This file does only one thing: it says, for every state and every input, which action the
 station performs and where it goes. States and inputs are named as the manual's flowcharts
-name them. Actions and decisions are implemented in :mod:`harness.model.station`; a
+name them. Actions and decisions are implemented in :mod:`ptpcert.model.station`; a
 decision is a branch point of the flowchart (a diamond) that picks the next state.
 
 A row whose action is :data:`IMPOSSIBLE` cannot occur: the input is a timer that is not
 running in that state, or a local event that the state cannot see. The station raises
-:class:`~harness.model.station.ModelError` if it is ever fed one.
+:class:`~ptpcert.model.station.ModelError` if it is ever fed one.
 """
 
 from __future__ import annotations

@@ -14,7 +14,7 @@ with open(counter, "a+") as f:
     f.seek(0)
     n = len(f.read().splitlines()) + 1
     f.write(f"{os.getpid()}\n")
-args = [sys.executable, "-m", "harness.cli", "iut", *rest]
+args = [sys.executable, "-m", "ptpcert.cli", "iut", *rest]
 if n <= k:
     args += ["--mutant", "cdt-half"]
 os.execv(sys.executable, args)
