@@ -55,3 +55,10 @@ def test_with_and_dict_roundtrip():
     assert Params3964().with_(procedure="3964").adt_ms == 550
     with pytest.raises(ParameterError, match="not a parameter"):
         Params3964.from_dict({"cdt": 20})
+
+
+def test_one_list_of_status_codes_shared_by_model_and_catalogue():
+    from ptpcert.model.codes import Code
+    from ptpcert.status import catalogue
+    assert {int(c) for c in Code} == set(catalogue())
+    assert Code(0x0708).text == "16#0708" and Code.LINE_BREAK.event_class == 0x08

@@ -4,26 +4,28 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-# STATUS event codes a 3964(R) station raises (Table 8-1; 3964r.md §14.1).
-FIRST_REPETITION = 0x0701          # send: transmission of the first repetition
-SETUP_REFUSED = 0x0702             # send: NAK or other character after STX
-SETUP_TIMEOUT = 0x0703             # send: ADT exceeded after STX
-SEND_INTERRUPTED = 0x0704          # send: character received while sending the block
-RELEASE_REFUSED = 0x0706           # send: NAK/other after DLE ETX [BCC], or DLE too early
-RELEASE_TIMEOUT = 0x0707           # send: ADT exceeded after DLE ETX [BCC]
-SETUP_ATTEMPTS_EXCEEDED = 0x0709   # send: setup attempts used up
-TX_ATTEMPTS_EXCEEDED = 0x070A      # send: transmission attempts used up
-EXPECT_REPETITION = 0x0801         # receive: first NAK for a block, repetition expected
-RX_SETUP_ERROR = 0x0802            # receive: stray characters in idle / during setup
-RX_LOGICAL_ERROR = 0x0805          # receive: DLE followed by a character other than DLE/ETX
-CDT_EXCEEDED = 0x0806              # receive: character delay time exceeded
-BCC_ERROR = 0x0808                 # receive: BCC mismatch (3964R)
-NO_RECEIVE_BUFFER = 0x080A         # receive: no free receive buffer within T_NAKTIM
-CHARACTER_ERROR = 0x080C           # parity / framing / overrun error in a received character
-LINE_BREAK = 0x080D                # BREAK: receive line interrupted
-ATTEMPTS_MISMATCH = 0x0815         # receive: transfer-attempt settings differ (A19)
-FRAME_TOO_LONG = 0x0816            # receive: more than 1024 user bytes
-LEN_ILLEGAL = 0x1E41               # send request with LEN outside 1..1024 (Table 8-2)
+from .codes import Code
+
+# The STATUS codes a 3964(R) station raises (Table 8-1); the one list is codes.Code.
+FIRST_REPETITION = Code.FIRST_REPETITION
+SETUP_REFUSED = Code.SETUP_REFUSED
+SETUP_TIMEOUT = Code.SETUP_TIMEOUT
+SEND_INTERRUPTED = Code.SEND_INTERRUPTED
+RELEASE_REFUSED = Code.RELEASE_REFUSED
+RELEASE_TIMEOUT = Code.RELEASE_TIMEOUT
+SETUP_ATTEMPTS_EXCEEDED = Code.SETUP_ATTEMPTS_EXCEEDED
+TX_ATTEMPTS_EXCEEDED = Code.TX_ATTEMPTS_EXCEEDED
+EXPECT_REPETITION = Code.EXPECT_REPETITION
+RX_SETUP_ERROR = Code.RX_SETUP_ERROR
+RX_LOGICAL_ERROR = Code.RX_LOGICAL_ERROR
+CDT_EXCEEDED = Code.CDT_EXCEEDED
+BCC_ERROR = Code.BCC_ERROR
+NO_RECEIVE_BUFFER = Code.NO_RECEIVE_BUFFER
+CHARACTER_ERROR = Code.CHARACTER_ERROR
+LINE_BREAK = Code.LINE_BREAK
+ATTEMPTS_MISMATCH = Code.ATTEMPTS_MISMATCH
+FRAME_TOO_LONG = Code.FRAME_TOO_LONG
+LEN_ILLEGAL = Code.LEN_ILLEGAL
 
 
 def status_text(code: int) -> str:
