@@ -31,7 +31,7 @@ INDEPENDENT = ROOT / "tests" / "independent" / "iut3964.py"
 
 
 def run(url: str, profile) -> R.RunResult:
-    cases = load_suite(profile.params, load_vector_sets())
+    cases = load_suite(profile, load_vector_sets())
     factory = make_factory(url, profile)
     runner = Runner(factory, profile, RunOptions(echo=profile.echo, check_status=profile.status_from_stderr))
     res = R.RunResult(tool_version="bench", started="")

@@ -1,20 +1,18 @@
-"""The 3964/3964R conformance suite: cases generated for the IUT's profile, grouped as the
-manual is. Each module is one group; each case is a vector (harness.scenario.Vector) that
-cites its rule. The golden vectors in ../vectors run with them."""
+"""The conformance suite users run against their IUT: cases generated for the IUT's
+profile, one package per procedure, one module per group of the manual. Only the command
+line (and the pytest plugin) hands these cases to the runner."""
 
 from __future__ import annotations
 
-from ptpcert.model import Params3964
+from ptpcert.profile import Profile
 from ptpcert.scenario import Vector
 
-GROUP_MODULES: tuple[str, ...] = ("startup", "idle", "receive", "send", "release", "conflict", "line", "timing")
+from . import p3964
 
 
-def cases(params: Params3964) -> list[Vector]:
-    """Every case of the suite for an IUT with these parameters."""
-    import importlib
-
-    out: list[Vector] = []
-    for name in GROUP_MODULES:
-        out += importlib.import_module(f"ptpcert.conformance.{name}").cases(params)
-    return out
+def cases(profile: Profile) -> list[Vector]:
+    """Every case of the suite for the IUT this profile describes."""
+    pid = profile.procedure.id
+    if pid == "3964r":
+        return p3964.cases(profile.params)
+    raise ValueError(f"no conformance suite for procedure {profile.procedure.title}")

@@ -38,16 +38,13 @@ def add_commands(sub) -> None:
     r.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     r.set_defaults(func=cmd_run)
 
+    from .procedures import PROCEDURES, all_names
     i = sub.add_parser("iut", help="run the bundled reference implementation (the model, in real time)",
-                       description="The reference model as a real-time 3964/3964R station on stdin/stdout "
-                                   "(or --port), with the echo application. STATUS events go to stderr "
-                                   "as 'STATUS 16#XXXX' lines.")
-    i.add_argument("--procedure", choices=["3964", "3964R"], default="3964R")
-    i.add_argument("--priority", choices=["low", "high"], default="low")
-    i.add_argument("--cdt-ms", type=int, default=220, help="character delay time (default 220)")
-    i.add_argument("--adt-ms", type=int, default=None, help="acknowledgement delay time (default 2000; 550 for 3964)")
-    i.add_argument("--setup-attempts", type=int, default=6)
-    i.add_argument("--transmission-attempts", type=int, default=6)
+                       description="The reference model as a real-time station on stdin/stdout (or --port), "
+                                   "with its application (3964/3964R: the echo application). STATUS events "
+                                   "go to stderr as 'STATUS 16#XXXX' lines.")
+    i.add_argument("--procedure", choices=all_names(), default="3964R")
+    i.add_argument("--cdt-ms", type=int, default=None, help="character delay time (default: the procedure's, 220 for 3964R)")
     i.add_argument("--baud", type=int, default=9600, help="baud rate; 0: do not pace the output")
     i.add_argument("--data-bits", type=int, choices=[7, 8], default=8)
     i.add_argument("--parity", choices=["none", "odd", "even"], default="even")
@@ -55,10 +52,12 @@ def add_commands(sub) -> None:
     i.add_argument("--parmrk", action="store_true",
                    help="the input marks line conditions as termios PARMRK does (FF 00 00 BREAK, FF 00 xx error, FF FF data FF)")
     i.add_argument("--port", metavar="URL", help="use this serial port (pyserial URL or device) instead of stdin/stdout")
-    i.add_argument("--app", choices=["echo", "none"], default="echo", help="what to do with received blocks")
+    i.add_argument("--app", default="echo", help="what to do with received data: echo (default) or none")
     i.add_argument("--mutant", metavar="NAME", help="run a deliberately broken variant (see --list-mutants)")
     i.add_argument("--list-mutants", action="store_true", help="list the broken variants and exit")
     i.add_argument("-v", "--verbose", action="store_true", help="also log deliveries and job results on stderr")
+    for proc in PROCEDURES:
+        proc.add_iut_arguments(i.add_argument_group(f"{proc.title} options"))
     i.set_defaults(func=cmd_iut)
 
     f = sub.add_parser("fuzz", help="fuzz an IUT with generated partner behaviour, the model as oracle",
@@ -88,30 +87,29 @@ def add_commands(sub) -> None:
 
 def cmd_iut(args) -> int:
     from .iut import run_iut
-    from .model import ParameterError, Params3964
+    from .procedures import by_name
 
+    proc = by_name(args.procedure)
     if args.list_mutants:
-        from .mutants import MUTANTS
-        for name, m in MUTANTS.items():
+        for name, m in proc.mutants().items():
             print(f"{name:<28} {m.rule}")
         return 0
-    if args.mutant:
-        from .mutants import MUTANTS
-        if args.mutant not in MUTANTS:
-            print(f"ptpcert iut: unknown mutant {args.mutant!r}; --list-mutants shows them", file=sys.stderr)
-            return 2
+    if args.mutant and args.mutant not in proc.mutants():
+        print(f"ptpcert iut: unknown mutant {args.mutant!r} for {proc.title}; --list-mutants shows them",
+              file=sys.stderr)
+        return 2
+    if args.app not in proc.apps():
+        print(f"ptpcert iut: --app {args.app!r}: allowed values are {', '.join(proc.apps())}", file=sys.stderr)
+        return 2
+    from .procedure import ProcedureError
     try:
-        params = Params3964(
-            procedure=args.procedure, priority=args.priority, cdt_ms=args.cdt_ms, adt_ms=args.adt_ms,
-            setup_attempts=args.setup_attempts, transmission_attempts=args.transmission_attempts,
-            baud_rate=None if args.baud == 0 else args.baud, data_bits=args.data_bits,
-            parity=args.parity, stop_bits=args.stop_bits)
-    except ParameterError as exc:
+        params = proc.params_from_iut(args)
+        host = proc.iut_host(params, args)
+    except ProcedureError as exc:
         print(f"ptpcert iut: {exc}", file=sys.stderr)
         return 2
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
-    return run_iut(params, parmrk=args.parmrk, port=args.port, mutant=args.mutant, app=args.app,
-                   verbose=args.verbose)
+    return run_iut(host, proc.line(params), parmrk=args.parmrk, port=args.port, verbose=args.verbose)
 
 
 def _interrupt(*_):
@@ -133,7 +131,7 @@ def cmd_run(args) -> int:
         return 2
     try:
         vectors = load_vector_sets(args.vectors, only=args.vectors_only)
-        cases = load_suite(profile.params, vectors, include_suite=not args.vectors_only, select=args.select)
+        cases = load_suite(profile, vectors, include_suite=not args.vectors_only, select=args.select)
     except (VectorError, ValueError) as exc:
         print(f"ptpcert run: {exc}", file=sys.stderr)
         return 2
@@ -147,7 +145,7 @@ def cmd_run(args) -> int:
                       echo=profile.echo, check_status=profile.status_from_stderr,
                       edge_attempts=args.edge_attempts)
     runner = Runner(factory, profile, opts)
-    result = R.RunResult(tool_version=__version__, started=_now(), iut=args.iut,
+    result = R.RunResult(tool_version=__version__, started=_now(), iut=args.iut, procedure=profile.procedure.title,
                          profile=profile.to_dict(), profile_path=str(args.profile),
                          vector_set=vector_set_label(args.vectors, args.vectors_only), vector_set_hash=vector_set_hash(cases),
                          html_path=args.html or "")

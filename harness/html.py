@@ -732,7 +732,7 @@ def _header(run: R.RunResult) -> str:
     counts = run.counts()
     n = len(run.cases)
     verdict = run.verdict
-    out = [f'<header><h1>ptpcert conformance report — 3964/3964R</h1>'
+    out = [f'<header><h1>ptpcert conformance report — {esc(run.procedure or "3964/3964R")}</h1>'
            f'<p>overall verdict {_badge(verdict, "overall")} &nbsp; {n} cases: '
            + " ".join(f'{_badge(v)} {counts[v]}' for v in R.VERDICTS if counts.get(v)) + "</p>"]
     if run.interrupted:

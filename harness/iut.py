@@ -14,7 +14,6 @@ import select
 import sys
 import time
 
-from .model import Host, Params3964, Station3964
 from .model.events import Delivered, SendDone, SendFailed, Status
 from .driver import Endpoint, drive_station
 
@@ -90,7 +89,7 @@ class SerialEndpoint(Endpoint):
     kernel marks breaks and parity errors (termios PARMRK); on a pseudo-terminal the marks
     come in-band from the other side."""
 
-    def __init__(self, url: str, params: Params3964, parmrk: bool):
+    def __init__(self, url: str, params, parmrk: bool):  # params: the line's settings
         import serial
 
         parity = {"none": serial.PARITY_NONE, "odd": serial.PARITY_ODD, "even": serial.PARITY_EVEN}[params.parity]
@@ -143,23 +142,21 @@ def _is_pty(fd: int) -> bool:
         return False
 
 
-def make_station(params: Params3964, mutant: str | None = None) -> Station3964:
-    if mutant:
-        from .mutants import make_mutant
-        return make_mutant(mutant, params)
-    return Station3964(params, name="iut")
-
-
-def run_iut(params: Params3964, *, parmrk: bool, port: str | None = None, mutant: str | None = None,
-            app: str = "echo", verbose: bool = False) -> int:
-    station = make_station(params, mutant)
-    host = Host(station, app)
-    ep: Endpoint = SerialEndpoint(port, params, parmrk) if port else StdioEndpoint(parmrk=parmrk)
+def run_iut(host, line, *, parmrk: bool, port: str | None = None, verbose: bool = False) -> int:
+    """Drive ``host`` (a model station with its application) in real time on stdin/stdout or
+    ``port``, with the line settings ``line``. Every STATUS event goes to stderr as
+    ``STATUS 16#XXXX``; an application may report more lines (``host.report_line(event)``)."""
+    station = host.station
+    ep: Endpoint = SerialEndpoint(port, line, parmrk) if port else StdioEndpoint(parmrk=parmrk)
     err = sys.stderr
+    report = getattr(host, "report_line", None)
 
     def on_event(e) -> None:
         if isinstance(e, Status):
             err.write(f"STATUS 16#{e.code:04X}\n")
+        line_ = report(e) if report is not None else None
+        if line_:
+            err.write(line_ + "\n")
         elif verbose and isinstance(e, (Delivered, SendDone, SendFailed)):
             err.write(f"# {type(e).__name__} {e.payload.hex(' ')}\n")
         err.flush()

@@ -8,22 +8,12 @@ with one action, decision or table row changed; nothing else differs.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 from .model import Params3964, Station3964
 from .model import events as ev
 from .model import table as T
 from .model.codec import DLE, ETX, NAK, STX
 from .model.station import _xor
-
-
-@dataclass(frozen=True)
-class Mutant:
-    name: str
-    rule: str                  # the rule it breaks, with its reference
-    cls: type
-    #: profile settings under which the broken rule shows (e.g. the priority it concerns)
-    profile: dict = field(default_factory=dict)
+from .procedure import Mutant
 
 
 MUTANTS: dict[str, Mutant] = {}
@@ -35,14 +25,6 @@ def mutant(name: str, rule: str, **profile):
         MUTANTS[name] = Mutant(name, rule, cls, profile)
         return cls
     return register
-
-
-def make_mutant(name: str, params: Params3964) -> Station3964:
-    try:
-        m = MUTANTS[name]
-    except KeyError:
-        raise KeyError(f"unknown mutant {name!r}; known: {', '.join(MUTANTS)}") from None
-    return m.cls(params, name="iut")
 
 
 def _patched(table: dict, state: str, inp: str, row: T.Row) -> dict:

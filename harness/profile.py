@@ -1,10 +1,11 @@
 """The IUT profile: a TOML file describing the implementation under test, like a protocol
-conformance statement. Parameters, how it can be made to send, which line conditions it
-reads, whether it reports STATUS, and the failures expected with their reasons.
+conformance statement. Its procedure and parameters, how it can be made to send, which line
+conditions it reads, whether it reports STATUS, the setups its command knows, and the
+failures expected with their reasons.
 
 ```toml
 [iut]
-procedure = "3964R"              # "3964" | "3964R"
+procedure = "3964R"              # "3964" | "3964R" | ... (the procedure's own keys follow)
 priority = "low"                 # the IUT's own: "low" | "high"
 character_delay_ms = 20
 acknowledgement_delay_ms = 20
@@ -18,6 +19,9 @@ send_trigger = "echo"            # "echo": sends back every block it receives; "
 line_conditions = "parmrk"       # "parmrk": reads PARMRK marks on exec:/pty:; "none"
 status_from_stderr = true        # prints "STATUS 16#XXXX" lines on stderr
 
+[iut.setups]                     # optional: words appended to an exec:/pty: command for the
+no_buffer = "--buffer full"      # cases that need the IUT in a special state
+
 [expected_failures]
 "3964R.D08.DLE-OTHER" = "known bug #12: NAK sent at once"
 ```
@@ -30,21 +34,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .model.params import BAUD_RATES, ParameterError, Params3964
+from .procedure import Procedure, ProcedureError
 
-REQUIRED = ("procedure", "priority", "character_delay_ms", "acknowledgement_delay_ms",
-            "setup_attempts", "transmission_attempts", "send_trigger", "line_conditions",
-            "status_from_stderr")
-DEFAULTS = {"baud_rate": 9600, "data_bits": 8, "parity": "even", "stop_bits": 1}
-CHOICES = {
-    "procedure": ("3964", "3964R"),
-    "priority": ("low", "high"),
-    "send_trigger": ("echo", "none"),
-    "line_conditions": ("parmrk", "none"),
-    "parity": ("none", "odd", "even"),
-}
-_PARAM_OF = {"character_delay_ms": "cdt_ms", "acknowledgement_delay_ms": "adt_ms"}
-_KEY_OF = {v: k for k, v in _PARAM_OF.items()}
+#: [iut] keys every procedure has
+COMMON_REQUIRED = ("procedure", "send_trigger", "line_conditions", "status_from_stderr")
+COMMON_CHOICES = {"send_trigger": ("echo", "none"), "line_conditions": ("parmrk", "none")}
 
 
 class ProfileError(ValueError):
@@ -55,86 +49,121 @@ class ProfileError(ValueError):
 
 @dataclass(frozen=True)
 class Profile:
-    params: Params3964
+    procedure: Procedure
+    params: Any
     send_trigger: str = "echo"
     line_conditions: str = "parmrk"
     status_from_stderr: bool = True
     expected_failures: dict[str, str] = field(default_factory=dict)
+    #: name -> words appended to the exec:/pty: command for the cases that need that setup
+    setups: dict[str, str] = field(default_factory=dict)
     path: str = ""
 
     @property
     def echo(self) -> bool:
         return self.send_trigger == "echo"
 
+    @property
+    def line(self):
+        return self.procedure.line(self.params)
+
     def to_dict(self) -> dict[str, Any]:
-        p = self.params
         return {
-            "procedure": p.procedure, "priority": p.priority,
-            "character_delay_ms": p.cdt_ms, "acknowledgement_delay_ms": p.adt_ms,
-            "setup_attempts": p.setup_attempts, "transmission_attempts": p.transmission_attempts,
-            "baud_rate": p.baud_rate, "data_bits": p.data_bits, "parity": p.parity,
-            "stop_bits": p.stop_bits, "send_trigger": self.send_trigger,
-            "line_conditions": self.line_conditions, "status_from_stderr": self.status_from_stderr,
-            "expected_failures": dict(self.expected_failures),
+            **self.procedure.profile_dict(self.params),
+            "send_trigger": self.send_trigger, "line_conditions": self.line_conditions,
+            "status_from_stderr": self.status_from_stderr,
+            "setups": dict(self.setups), "expected_failures": dict(self.expected_failures),
         }
 
 
-def load_profile(path: str | Path) -> Profile:
-    path = Path(path)
+def read_toml(path: str | Path, what: str, error) -> dict[str, Any]:
+    """A TOML file as a dict; every way it can be unreadable is one clear error."""
     where = str(path)
     try:
-        raw = tomllib.loads(path.read_text("utf-8"))
+        data = Path(path).read_bytes()
     except FileNotFoundError:
-        raise ProfileError(where, "", "no such file") from None
+        raise error(where, "", "no such file") from None
+    except IsADirectoryError:
+        raise error(where, "", f"is a directory, not a {what} file") from None
     except OSError as exc:
-        raise ProfileError(where, "", f"cannot be read: {exc.strerror}") from None
+        raise error(where, "", f"cannot be read: {exc.strerror}") from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise error(where, "", f"is not UTF-8 text (byte {exc.start}); save the {what} as UTF-8") from None
+    if text.startswith("\ufeff"):
+        text = text[1:]
+    try:
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ProfileError(where, "", f"not valid TOML: {exc}") from None
-    return profile_from_dict(raw, where)
+        raise error(where, "", f"not valid TOML: {exc}") from None
+
+
+def load_profile(path: str | Path) -> Profile:
+    return profile_from_dict(read_toml(path, "profile", ProfileError), str(path))
 
 
 def profile_from_dict(raw: dict[str, Any], where: str = "<profile>") -> Profile:
-    unknown_tables = sorted(set(raw) - {"iut", "expected_failures"})
+    from .procedures import PROCEDURES, all_names, by_name
+
+    every = {"iut", "expected_failures"} | {t for p in PROCEDURES for t in p.tables}
+    unknown_tables = sorted(set(raw) - every)
     if unknown_tables:
-        raise ProfileError(where, unknown_tables[0], "unknown table or key (allowed: [iut], [expected_failures])")
+        raise ProfileError(where, unknown_tables[0], "unknown table or key (allowed: "
+                           + ", ".join(f"[{t}]" for t in sorted(every)) + ")")
     iut = raw.get("iut")
     if not isinstance(iut, dict):
         raise ProfileError(where, "iut", "missing table [iut]")
-    allowed = set(REQUIRED) | set(DEFAULTS)
+    name = iut.get("procedure")
+    if name is None:
+        raise ProfileError(where, "iut.procedure", "missing (one of " + ", ".join(all_names()) + ")")
+    try:
+        proc = by_name(name)
+    except ProcedureError as exc:
+        raise ProfileError(where, "iut.procedure", str(exc).split(": ", 1)[1]) from None
+    allowed_tables = {"iut", "expected_failures", *proc.tables}
+    foreign = sorted(set(raw) - allowed_tables)
+    if foreign:
+        raise ProfileError(where, foreign[0], f"not a table of a {proc.title} profile (allowed: "
+                           + ", ".join(f"[{t}]" for t in sorted(allowed_tables)) + ")")
+    allowed = set(COMMON_REQUIRED) | set(proc.profile_keys()) | {"setups"}
     for key in iut:
         if key not in allowed:
             raise ProfileError(where, f"iut.{key}", "unknown key (allowed: " + ", ".join(sorted(allowed)) + ")")
-    for key in REQUIRED:
+    for key in COMMON_REQUIRED:
         if key not in iut:
-            hint = f"one of {', '.join(CHOICES[key])}" if key in CHOICES else "required"
+            hint = f"one of {', '.join(COMMON_CHOICES[key])}" if key in COMMON_CHOICES else "required"
             raise ProfileError(where, f"iut.{key}", f"missing ({hint})")
-    values = {**DEFAULTS, **iut}
-    for key, choices in CHOICES.items():
-        if values[key] not in choices:
-            raise ProfileError(where, f"iut.{key}", f"{values[key]!r} is not allowed; allowed values: "
-                               + ", ".join(f'"{c}"' for c in choices))
-    if not isinstance(values["status_from_stderr"], bool):
-        raise ProfileError(where, "iut.status_from_stderr", f"{values['status_from_stderr']!r}: must be true or false")
-    if values["baud_rate"] not in BAUD_RATES:
-        raise ProfileError(where, "iut.baud_rate", f"{values['baud_rate']!r} is not allowed; allowed values: "
-                           + ", ".join(map(str, BAUD_RATES)))
+    choices = dict(COMMON_CHOICES, send_trigger=getattr(proc, "send_triggers", COMMON_CHOICES["send_trigger"]))
+    for key, options in choices.items():
+        if iut[key] not in options:
+            raise ProfileError(where, f"iut.{key}", f"{iut[key]!r} is not allowed; allowed values: "
+                               + ", ".join(f'"{c}"' for c in options))
+    if not isinstance(iut["status_from_stderr"], bool):
+        raise ProfileError(where, "iut.status_from_stderr", f"{iut['status_from_stderr']!r}: must be true or false")
+    own = {k: v for k, v in iut.items() if k not in ("send_trigger", "line_conditions", "status_from_stderr", "setups")}
+    tables = {t: raw[t] for t in proc.tables if t in raw}
+    for t, v in tables.items():
+        if not isinstance(v, dict):
+            raise ProfileError(where, t, "must be a table")
     try:
-        params = Params3964(
-            procedure=values["procedure"], priority=values["priority"],
-            cdt_ms=values["character_delay_ms"], adt_ms=values["acknowledgement_delay_ms"],
-            setup_attempts=values["setup_attempts"],
-            transmission_attempts=values["transmission_attempts"],
-            baud_rate=values["baud_rate"], data_bits=values["data_bits"],
-            parity=values["parity"], stop_bits=values["stop_bits"],
-        )
-    except ParameterError as exc:
-        key = _KEY_OF.get(exc.name, exc.name)
-        raise ProfileError(where, f"iut.{key}", str(exc).replace(exc.name, key, 1)) from None
+        params = proc.params_from_profile(own, tables)
+    except ProcedureError as exc:
+        raise ProfileError(where, exc.key, str(exc).split(": ", 1)[-1] if exc.key else str(exc)) from None
+    setups = iut.get("setups", {})
+    if not isinstance(setups, dict) or any(not isinstance(v, str) for v in setups.values()):
+        raise ProfileError(where, "iut.setups", "a table of setup name = \"words appended to the IUT command\"")
+    for name_ in setups:
+        if name_ not in proc.setups:
+            raise ProfileError(where, f"iut.setups.{name_}", "unknown setup (known for "
+                               f"{proc.title}: {', '.join(proc.setups) or 'none'})")
+        if not setups[name_].strip():
+            raise ProfileError(where, f"iut.setups.{name_}", "must not be empty")
     xf = raw.get("expected_failures", {})
     if not isinstance(xf, dict) or any(not isinstance(v, str) or not v.strip() for v in xf.values()):
         raise ProfileError(where, "expected_failures", "a table of case id = \"reason\" (each with a reason)")
-    return Profile(params, values["send_trigger"], values["line_conditions"],
-                   values["status_from_stderr"], dict(xf), where)
+    return Profile(proc, params, iut["send_trigger"], iut["line_conditions"], iut["status_from_stderr"],
+                   dict(xf), dict(setups), where)
 
 
 def reference_profile(**overrides: Any) -> Profile:

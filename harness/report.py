@@ -85,7 +85,7 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
     for k, v in run.profile.items():
         if k != "expected_failures":
             props[f"profile.{k}"] = str(v)
-    suite = TestSuite("ptpcert 3964/3964R conformance", cases, timestamp=run.started, properties=props)
+    suite = TestSuite(f"ptpcert {run.procedure or '3964/3964R'} conformance", cases, timestamp=run.started, properties=props)
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
     tmp = p.with_suffix(p.suffix + ".tmp")

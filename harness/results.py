@@ -59,6 +59,8 @@ class CaseResult:
     observed_status: list[str] = field(default_factory=list)  # reported by the IUT
     status_checked: bool = False
     transcript: list[dict[str, Any]] = field(default_factory=list)
+    #: frames the procedure found in the transcript (dir, t0, t1, label), for reports
+    frames: list[dict[str, Any]] = field(default_factory=list)
     steps: list[dict[str, Any]] = field(default_factory=list)  # expanded steps, for reports
     origin: float = 0.0                # the transport clock at the case's time 0 (monotonic)
     duration: float = 0.0              # wall time of the case, seconds
@@ -82,6 +84,8 @@ class RunResult:
     started: str
     finished: str = ""
     iut: str = ""
+    #: the procedure, for people ("3964/3964R", "RK 512", "ASCII driver")
+    procedure: str = ""
     profile: dict[str, Any] = field(default_factory=dict)
     profile_path: str = ""
     vector_set: str = ""

@@ -12,13 +12,15 @@ import time
 from dataclasses import dataclass, replace
 from typing import Callable, Iterable
 
+from typing import Any
+
 from . import results as R
-from .model import Host, Params3964, Station3964, codec
+from .model import codec
 from .model.events import Delivered, status_text
 from .profile import Profile
 from .scenario import Expr, Step, Vector, brief_hex, expand, timer_env
 from .driver import Endpoint, drive_station
-from .transport.base import (BREAK, CHAR_ERROR, RESTART, STATUS, IUTDied, Transport,
+from .transport.base import (BREAK, CHAR_ERROR, RESTART, SETUPS, STATUS, IUTDied, Transport,
                              TransportError)
 
 # ------------------------------------------------------------------ tolerances
@@ -42,18 +44,18 @@ class Tolerance:
 VIRTUAL = Tolerance(early=1e-9, early_rel=0.0, late_abs=1e-9, late_rel=0.0, stimulus=1e-6)
 
 
-def realtime_tolerance(params: Params3964, late_ms: float = 50.0) -> Tolerance:
+def realtime_tolerance(proc, params: Any, late_ms: float = 50.0) -> Tolerance:
     """Tolerances for real processes on a loaded machine: one character time plus 1 ms plus
     10 % early (the IUT may time from when it read our byte, not from its stop bit, and the
     harness may read the byte that starts a window a little late); 50 ms plus 25 % late;
-    the tester's stimuli at most 15 % of the shortest timer late."""
-    char = params.char_time
+    the tester's stimuli at most 15 % of the IUT's shortest timer late."""
+    char = proc.char_time(params)
     return Tolerance(
         early=char + 0.001,
         early_rel=0.10,
         late_abs=late_ms / 1000.0 + 2 * char,
         late_rel=0.25,
-        stimulus=max(0.002, 0.15 * min(params.cdt, params.adt)),
+        stimulus=max(0.002, 0.15 * min(proc.edge_timers(params))),
     )
 
 
@@ -97,11 +99,18 @@ class CaseRun:
     """Executes one vector once against an open transport."""
 
     def __init__(self, vector: Vector, steps: tuple[Step, ...], tr: Transport,
-                 params: Params3964, tol: Tolerance, opts: RunOptions,
-                 tester_params: Params3964 | None = None):
+                 params: Any, tol: Tolerance, opts: RunOptions):
         self.v, self.steps, self.tr, self.p, self.tol, self.opts = vector, steps, tr, params, tol, opts
-        self.tp = tester_params or params
-        self.env = timer_env(params, opts.startup_timeout)
+        self.proc = proc = vector.proc
+        #: the conforming partner the tester plays where a vector lets it
+        self.tp = proc.tester_params(params, vector.tester_params)
+        self.char = proc.char_time(params)
+        self.tester_char = proc.char_time(self.tp)
+        edges = proc.edge_timers(params)
+        #: a late stimulus matters only near the IUT's shortest timer; the line is quiet
+        #: after the longest
+        self.shortest, self.longest = min(edges), max(edges)
+        self.env = timer_env(vector, params, opts.startup_timeout)
         self.t0 = tr.now()
         self.ref = self.t0
         self.rx: list[tuple[float, int]] = []
@@ -171,13 +180,13 @@ class CaseRun:
         """Send characters paced as on the line: the k-th starts at ref + at + k*(CHAR+gap)
         and is handed over when it is complete, one character time later."""
         at, gap = self.ev(step.at), self.ev(step.gap)
-        char = self.tp.char_time
+        char = self.tester_char
         start = self.ref + at
         t = start
         prev = self.ref
         # A late byte matters only where one of the IUT's timers could have run out because
         # of it: when the time since the previous event nears the shortest timer.
-        critical = 0.9 * min(self.p.cdt, self.p.adt)
+        critical = 0.9 * self.shortest
         for k, b in enumerate(data):
             target = start + k * (char + gap) + char
             self.wait_until(target)
@@ -202,7 +211,7 @@ class CaseRun:
         target = self.ref + at
         self.wait_until(target)
         t = self.tr.send_break(dur)
-        if t - target > self.tol.stimulus and t - self.ref > 0.9 * min(self.p.cdt, self.p.adt):
+        if t - target > self.tol.stimulus and t - self.ref > 0.9 * self.shortest:
             raise TimingFault(f"step {self.step_index + 1}: BREAK went out {1000 * (t - target):.1f} ms late")
         self.log.append({"t": self.rel(t), "dir": "tester", "kind": "break", "duration": dur, "step": self.step_index})
         self.ref = self.sent_end = t + dur
@@ -303,7 +312,7 @@ class CaseRun:
             if matched in step.alternatives:
                 self._grade(step.alt_grade, f"step {self.step_index + 1}: the IUT sent {codec.hexstr(matched)}")
         self.ref = last_t
-        self.forced += max(lo_nom, 0.0) + len(matched) * self.p.char_time
+        self.forced += max(lo_nom, 0.0) + len(matched) * self.char
 
     def _grade(self, grade: str, why: str) -> None:
         if grade != R.PASS:
@@ -315,21 +324,29 @@ class CaseRun:
 
     # -- before and after the steps ----------------------------------------------------
     def prologue(self, state: "RunnerState") -> None:
-        """Wait for a freshly started IUT's start-up NAK (bounded), so the steps start with
-        the IUT idle; on a persistent IUT, wait for the line to be quiet."""
+        """Wait for what a freshly started IUT sends on its own (3964's start-up NAK;
+        bounded), so the steps start with the IUT idle; on a persistent IUT, wait for the
+        line to be quiet."""
         if self.v.start == "power-on":
             return
         if RESTART in self.tr.capabilities:
-            limit = self.opts.startup_timeout if state.startup_nak_seen is not False else 0.1
-            first = self.next_byte(self.tr.now() + limit)
-            if first is not None and first[1] == codec.NAK:
-                self.consume()
-                state.startup_nak_seen = True
-            elif first is None and state.startup_nak_seen is None:
-                state.startup_nak_seen = False
+            startup = self.proc.startup_bytes(self.p)
+            if startup:
+                limit = self.opts.startup_timeout if state.startup_nak_seen is not False else 0.1
+                first = self.next_byte(self.tr.now() + limit)
+                if first is not None and first[1] == startup[0]:
+                    self.consume()
+                    for b in startup[1:]:
+                        nxt = self.next_byte(self.tr.now() + limit)
+                        if nxt is None or nxt[1] != b:
+                            break
+                        self.consume()
+                    state.startup_nak_seen = True
+                elif first is None and state.startup_nak_seen is None:
+                    state.startup_nak_seen = False
             self.ref = max(self.tr.now(), self.rx[self.pos - 1][0] if self.pos else self.tr.now())
         else:
-            quiet = max(self.p.cdt, self.p.adt) + self.tol.late(0)
+            quiet = self.longest + self.tol.late(0)
             if not state.persistent_settled:
                 # the first case on a persistent line: the IUT may still be starting up
                 quiet = max(quiet, self.opts.startup_timeout / 2)
@@ -353,7 +370,7 @@ class CaseRun:
         echo = list(self.v.expected.echo_after) if self.opts.echo else []
         if echo:
             self._receive_echoes(echo)
-        quiet = max(self.p.cdt, self.p.adt) + self.p.char_time * 4
+        quiet = self.longest + self.char * 4
         end = self.ref + quiet
         self.mark("window", t0=self.rel(self.ref), t1=self.rel(end), label="no further bytes")
         self.wait_until(end)
@@ -366,36 +383,33 @@ class CaseRun:
         self.ref = end
 
     def _receive_echoes(self, echo: list[bytes]) -> None:
-        params = self.tp.with_(priority="high" if self.p.priority == "low" else "low")
-        blk = max(len(codec.frame(e, self.p.procedure)) for e in echo) * self.p.char_time
-        limit = self.tr.now() + len(echo) * (self.p.setup_attempts * (self.p.adt + blk) + 1.0) + 2.0
-        got = self._play_partner(params, limit, want=len(echo),
+        limit = self.tr.now() + self.proc.echo_time_limit(self.p, echo)
+        got = self._play_partner(self.tp, limit, want=len(echo),
                                  label="echo: the tester receives as a conforming partner")
         for i, (want, have) in enumerate(zip(echo, got)):
             if want != have:
                 self.fail(f"echo {i + 1}: {codec.hexstr(want)}", f"the IUT sent back {codec.hexstr(have)}", self.ref)
-        self.forced += sum(len(codec.frame(e, self.p.procedure)) + 2 for e in echo) * self.p.char_time
+        self.forced += sum(len(self.proc.frame(e, self.p)) + 2 for e in echo) * self.char
 
     def _partner(self, step: Step) -> None:
-        params = self.tp
-        if self.v.tester_params is None:
-            params = params.with_(priority="high" if self.p.priority == "low" else "low")
         t0 = self.tr.now()
         limit = self.ref + self.ev(step.duration)
-        self.partner_delivered += self._play_partner(params, limit, want=None,
+        self.partner_delivered += self._play_partner(self.tp, limit, want=None,
                                                      label="the tester plays a conforming partner")
         self.forced += self.tr.now() - t0  # the protocol's own retries decide how long this takes
 
-    def _play_partner(self, params: Params3964, limit: float, want: int | None, label: str) -> list[bytes]:
+    def _play_partner(self, params: Any, limit: float, want: int | None, label: str) -> list[bytes]:
         """Let a model station in the tester's seat answer the IUT until it has received
         ``want`` blocks (None: until both sides are quiet), or until ``limit``. Returns the
         blocks it received."""
-        partner = Station3964(params, name="tester")
+        proc = self.proc
+        host = proc.host(proc.station(params, name="tester"), app="none")
+        partner = host.station
         start = min(self.rx[self.pos][0] if self.pos < len(self.rx) else self.ref, self.ref)
         partner.power_on(start)
-        partner.pop_output()          # it is already running: no start-up NAK here
+        partner.pop_output()          # it is already running: nothing of its start-up here
         ep = _CaseEndpoint(self)
-        quiet = max(params.cdt, params.adt) + 4 * params.char_time
+        quiet = max(proc.edge_timers(params)) + 4 * proc.char_time(params)
         got: list[bytes] = []
 
         def on_event(e) -> None:
@@ -403,9 +417,7 @@ class CaseRun:
                 got.append(e.payload)
 
         def stop() -> bool:
-            # waiting for a repetition looks like idle on the line (3964r.md §8.5 item 7)
-            at_rest = partner.state in ("IDLE", "WAIT_REPETITION") and partner.pending_jobs == 0
-            if not at_rest or partner._tx:
+            if not proc.partner_done(host):
                 return False
             if want is not None and len(got) >= want:
                 return True
@@ -413,7 +425,7 @@ class CaseRun:
             return ep.now() - ep.last >= quiet
 
         self.mark("window", t0=self.rel(self.ref), t1=self.rel(limit), label=label)
-        drive_station(Host(partner, "none"), ep, stop=stop, on_event=on_event, until=limit,
+        drive_station(host, ep, stop=stop, on_event=on_event, until=limit,
                       recheck=lambda: ep.last + quiet)
         if want is not None and len(got) < want:
             self.fail(f"{want} block(s) from the IUT",
@@ -472,7 +484,7 @@ class Runner:
         self.state = RunnerState()
 
     # -- applicability -------------------------------------------------------------
-    def effective_params(self, v: Vector) -> Params3964:
+    def effective_params(self, v: Vector) -> Any:
         """The vector's parameters, with the profile's where the vector does not bind them."""
         if self.profile is None:
             return v.params
@@ -482,6 +494,9 @@ class Runner:
 
     def unsupported_reason(self, v: Vector, caps: frozenset[str]) -> str | None:
         if self.profile is not None:
+            if v.procedure != self.profile.procedure.id:
+                return (f"the vector is for {v.proc.title}; the IUT profile is for "
+                        f"{self.profile.procedure.title}")
             for name in v.binds:
                 want, have = getattr(v.params, name), getattr(self.profile.params, name)
                 if want != have:
@@ -499,8 +514,13 @@ class Runner:
                 return "needs characters with parity/framing errors, which this transport cannot carry"
         if "restart" in v.needs and RESTART not in caps:
             return "needs to see the IUT start up; this transport does not start the IUT"
-        if "buffer_control" in v.needs and "buffer_control" not in caps:
-            return "needs the IUT's receive buffer to be full, which cannot be arranged through this transport"
+        if v.setup is not None and not getattr(self.factory, "virtual", False):
+            name = v.setup[0]
+            if self.profile is None or name not in self.profile.setups:
+                return (f"needs the IUT in the state of setup {name!r}, which the profile's [iut.setups] "
+                        "does not name")
+            if SETUPS not in caps:
+                return f"needs the IUT started with setup {name!r}; this transport does not start the IUT"
         return None
 
     # -- one case ------------------------------------------------------------------
@@ -511,7 +531,7 @@ class Runner:
         res.expected_status_codes = [sorted(f"16#{c:04X}" for c in g) for g in v.expected.iut_status.required]
         res.tester_status = v.expected.tester_status.describe()
         params = self.effective_params(v)
-        res.params = params.to_dict()
+        res.params = v.proc.params_table(params)
         steps = expand(replace(v, params=params))
         res.steps = [{"kind": s.kind, "data": codec.hexstr(s.data), **s.to_toml()} for s in steps]
         wall0 = time.monotonic()
@@ -571,7 +591,7 @@ class Runner:
         if realtime and self.opts.retry_pause:
             time.sleep(self.opts.retry_pause[min(n, len(self.opts.retry_pause)) - 1])
 
-    def _attempt(self, v: Vector, steps, params: Params3964, res: R.CaseResult) -> str:
+    def _attempt(self, v: Vector, steps, params: Any, res: R.CaseResult) -> str:
         """Run once; fill ``res``; return "ok", "timing" (voided) or "late" (failed by
         lateness only)."""
         try:
@@ -579,15 +599,14 @@ class Runner:
         except TransportError as exc:
             res.verdict, res.message = R.ERROR, f"transport: {exc}"
             return "ok"
-        tol = self.opts.tolerance or (VIRTUAL if tr.virtual else realtime_tolerance(params, self.opts.late_ms))
-        tester = v.tester_params.with_(cdt_ms=params.cdt_ms, adt_ms=params.adt_ms) if v.tester_params else None
+        tol = self.opts.tolerance or (VIRTUAL if tr.virtual else realtime_tolerance(v.proc, params, self.opts.late_ms))
         outcome = "ok"
         run: CaseRun | None = None
         info = None
         res.divergence = None
         try:
             tr.open()
-            run = CaseRun(v, steps, tr, params, tol, self.opts, tester)
+            run = CaseRun(v, steps, tr, params, tol, self.opts)
             run.prologue(self.state)
             run.run_steps()
             run.epilogue()
@@ -623,6 +642,10 @@ class Runner:
             res.notes.extend(info.notes)
         if run is not None:
             res.transcript = run.log
+            try:
+                res.frames = v.proc.describe_frames(run.log, params)
+            except Exception as exc:  # a decoder's fault must not cost the verdict
+                res.notes.append(f"frames could not be decoded: {type(exc).__name__}: {exc}")
             res.origin = run.t0
             res.forced_wait = round(run.forced, 6)
             res.case_time = round(tr.now() - run.t0, 6) if tr.virtual else 0.0
@@ -639,6 +662,12 @@ class Runner:
             if problems and res.verdict != R.FAIL:
                 res.verdict = R.FAIL
                 res.message = "STATUS: " + "; ".join(problems) + (f" (reported: {', '.join(res.observed_status) or 'none'})")
+            # what the procedure's IUT reports beyond STATUS (e.g. RK 512 request results)
+            lines = [text for _, text in tr.report_lines()]
+            more = v.proc.judge_reports(v, lines)
+            if more and res.verdict != R.FAIL:
+                res.verdict = R.FAIL
+                res.message = "reported: " + "; ".join(more)
         if self.opts.check_model_events and hasattr(tr, "delivered") and res.verdict != R.FAIL:
             want = list(v.expected.delivered)
             have = tr.delivered()
@@ -659,7 +688,12 @@ class Runner:
         stop_reason = ""
         failures = 0
         try:
+            prepare = getattr(self.factory, "prepare", None)
             for i, v in enumerate(vs):
+                if prepare is not None and i + 1 < len(vs):
+                    # let the transport start what the next case needs while this one runs
+                    nxt = vs[i + 1]
+                    prepare(nxt, self.effective_params(nxt))
                 c = self.run_case(v)
                 result.cases.append(c)
                 if progress:

@@ -13,17 +13,19 @@ import ast
 import hashlib
 import re
 import tomllib
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Iterable
 
 from .model import codec
-from .model.params import T_BLOCK, T_NAKTIM, ParameterError, Params3964
+from .procedure import ProcedureError
 
 # ------------------------------------------------------------------ time expressions
-#: Names a time expression may use. CHAR is one character time of the profile's frame;
-#: STARTUP is how long the harness waits for a freshly started IUT (set by the runner).
-TIME_NAMES = ("CDT", "ADT", "CHAR", "NAKTIM", "BLOCK", "STARTUP")
+#: Names a time expression may use (each procedure allows its own subset, see
+#: Procedure.time_names). CHAR is one character time of the profile's frame; STARTUP is how
+#: long the harness waits for a freshly started IUT (set by the runner).
+TIME_NAMES = ("CDT", "ADT", "CHAR", "NAKTIM", "BLOCK", "STARTUP", "TRES", "XONWAIT")
+BASE_TIME_NAMES = ("CHAR", "STARTUP")
 
 _UNIT = re.compile(r"(?<![\w.])(\d+(?:\.\d+)?)\s*(ms|s)\b")
 
@@ -103,15 +105,24 @@ def _eval(node: ast.AST, env: dict[str, float]) -> float:
     return a + b if isinstance(op, ast.Add) else a - b if isinstance(op, ast.Sub) else a * b if isinstance(op, ast.Mult) else a / b
 
 
-def timer_env(params: Params3964, startup: float = 0.0) -> dict[str, float]:
-    return {"CDT": params.cdt, "ADT": params.adt, "CHAR": params.char_time,
-            "NAKTIM": T_NAKTIM, "BLOCK": T_BLOCK, "STARTUP": startup}
+def timer_env(vector: "Vector", params: Any = None, startup: float = 0.0) -> dict[str, float]:
+    """Values of the names in ``vector``'s time expressions, with ``params`` (default: the
+    vector's own)."""
+    env = dict(vector.proc.timer_env(vector.params if params is None else params))
+    env["STARTUP"] = startup
+    return env
+
+
+def names_in(expr: "Expr") -> set[str]:
+    return {n.id for n in ast.walk(expr._tree()) if isinstance(n, ast.Name) and not n.id.startswith("_")}
 
 
 ZERO = Expr("0")
 
 # ------------------------------------------------------------------ steps
 STEP_KINDS = ("send", "send_error", "break", "wait", "expect", "silence", "prime", "partner")
+#: step kinds whose data is a payload a procedure expands (Procedure.macro_steps)
+MACRO_KINDS = ("prime",)
 SINCE = ("previous", "sent", "mark")
 GRADES = ("pass", "non-strict", "informational")
 _STEP_KEYS = {
@@ -210,9 +221,8 @@ class Step:
 # ------------------------------------------------------------------ vectors
 IUT_ROLES = ("receiver", "sender", "both", "idle")
 STARTS = ("idle", "power-on")
-REQUIREMENTS = ("echo", "line_conditions", "buffer_control", "restart")
-GROUPS = ("start-up", "idle", "receive", "send", "release", "repetition", "conflict",
-          "break", "character-error", "timing", "regression")
+#: capabilities any vector may require; a procedure adds its own (Procedure.requirements)
+BASE_REQUIREMENTS = ("line_conditions", "restart")
 
 
 @dataclass(frozen=True)
@@ -270,7 +280,7 @@ class Vector:
     rule: str
     group: str
     iut_role: str
-    params: Params3964
+    params: Any                          # the procedure's parameters
     steps: tuple[Step, ...]
     expected: Expected = Expected()
     start: str = "idle"
@@ -282,9 +292,21 @@ class Vector:
     #: parameters the vector's bytes depend on; a profile must match them to run it
     binds: tuple[str, ...] = ("procedure",)
     #: tester-side parameters when they differ from the IUT's (e.g. configuration mismatch)
-    tester_params: Params3964 | None = None
+    tester_params: Any | None = None
     #: the case works close to a timer's edge: a failure is confirmed by a second run
     timing_sensitive: bool = False
+    #: the procedure (its id, e.g. "3964r"); see ptpcert.procedures
+    procedure: str = "3964r"
+    #: the IUT setup the case needs (a name of [iut.setups] and its arguments), or None
+    setup: tuple[str, dict[str, Any]] | None = None
+    #: procedure-specific data (e.g. RK 512 requests and results), a TOML table
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def proc(self):
+        """The procedure's description (:class:`ptpcert.procedure.Procedure`)."""
+        from .procedures import by_id
+        return by_id(self.procedure)
 
     @property
     def needs(self) -> frozenset[str]:
@@ -319,9 +341,16 @@ class Vector:
             d["binds"] = list(self.binds)
         if self.timing_sensitive:
             d["timing_sensitive"] = True
-        d["params"] = _params_to_toml(self.params)
+        if self.procedure != "3964r":
+            d["procedure"] = self.proc.names[0]
+        if self.setup is not None:
+            name, args = self.setup
+            d["setup"] = {"name": name, **args} if args else name
+        d["params"] = self.proc.params_table(self.params)
         if self.tester_params is not None:
-            d["tester_params"] = _params_to_toml(self.tester_params)
+            d["tester_params"] = self.proc.params_table(self.tester_params)
+        if self.extra:
+            d["extra"] = dict(self.extra)
         e = self.expected
         exp: dict[str, Any] = {"iut_status": e.iut_status.to_toml()}
         if e.iut_status.optional:
@@ -338,13 +367,6 @@ class Vector:
         return d
 
 
-def _params_to_toml(p: Params3964) -> dict[str, Any]:
-    d = p.to_dict()
-    if d["baud_rate"] is None:
-        d.pop("baud_rate")
-    return d
-
-
 class VectorError(ValueError):
     """A vector file is broken. ``path``, ``field`` and the message say where and what."""
 
@@ -356,7 +378,7 @@ class VectorError(ValueError):
 _ID = re.compile(r"^[A-Z0-9][A-Z0-9.\-_]*$")
 _TOP_KEYS = {"id", "title", "reference", "rule", "group", "iut_role", "start", "requires",
              "readings", "provenance", "notes", "binds", "params", "tester_params", "expected", "steps",
-             "timing_sensitive"}
+             "timing_sensitive", "procedure", "setup", "extra"}
 _EXPECTED_KEYS = {"iut_status", "iut_status_optional", "tester_status", "tester_status_optional",
                   "delivered", "sent", "echo_after"}
 
@@ -381,9 +403,13 @@ def load_vector_text(text: str, source: str) -> Vector:
 
 
 def vector_from_dict(raw: dict[str, Any], source: str = "<vector>") -> Vector:
+    from .procedures import by_name
+
     def err(fld: str, msg: str) -> VectorError:
         return VectorError(source, fld, msg)
 
+    if not isinstance(raw, dict):
+        raise err("", "must be a TOML table of keys")
     unknown = sorted(set(raw) - _TOP_KEYS)
     if unknown:
         raise err(unknown[0], "unknown key (known: " + ", ".join(sorted(_TOP_KEYS)) + ")")
@@ -395,57 +421,119 @@ def vector_from_dict(raw: dict[str, Any], source: str = "<vector>") -> Vector:
             raise err(key, "must be a non-empty string")
     if not _ID.match(raw["id"]):
         raise err("id", f"{raw['id']!r}: use upper-case letters, digits, '.', '-' and '_'")
-    if raw["group"] not in GROUPS:
-        raise err("group", f"{raw['group']!r}: allowed values are {', '.join(GROUPS)}")
+    # the procedure: named at the top, else by the parameters (3964/3964R vectors)
+    pname = raw.get("procedure")
+    if pname is None:
+        pname = raw["params"].get("procedure", "3964R") if isinstance(raw["params"], dict) else "3964R"
+    try:
+        proc = by_name(pname)
+    except ProcedureError as exc:
+        raise err("procedure", str(exc).split(": ", 1)[1]) from None
+    if raw["group"] not in proc.groups:
+        raise err("group", f"{raw['group']!r}: allowed values are {', '.join(proc.groups)}")
     if raw["iut_role"] not in IUT_ROLES:
         raise err("iut_role", f"{raw['iut_role']!r}: allowed values are {', '.join(IUT_ROLES)}")
     start = raw.get("start", "idle")
     if start not in STARTS:
         raise err("start", f"{start!r}: allowed values are {', '.join(STARTS)}")
+    known_req = BASE_REQUIREMENTS + tuple(proc.requirements)
     requires = raw.get("requires", [])
-    if not isinstance(requires, list) or any(r not in REQUIREMENTS for r in requires):
-        raise err("requires", f"{requires!r}: a list of {', '.join(REQUIREMENTS)}")
-    params = _params(raw["params"], "params", err)
-    tester_params = _params(raw["tester_params"], "tester_params", err) if "tester_params" in raw else None
+    if not isinstance(requires, list) or any(r not in known_req for r in requires):
+        raise err("requires", f"{requires!r}: a list of {', '.join(known_req)}")
+    params = _params(proc, raw["params"], "params", err)
+    tester_params = _params(proc, raw["tester_params"], "tester_params", err) if "tester_params" in raw else None
+    names = proc.param_names()
     binds = raw.get("binds", ["procedure"])
-    from dataclasses import fields as _fields
-    names = {f.name for f in _fields(Params3964) if f.init}
     if not isinstance(binds, list) or any(b not in names for b in binds):
         raise err("binds", f"{binds!r}: a list of parameter names ({', '.join(sorted(names))})")
     if not isinstance(raw["steps"], list) or not raw["steps"]:
         raise err("steps", "must be a non-empty list of steps")
-    steps = tuple(_step(s, f"steps[{i}]", err) for i, s in enumerate(raw["steps"]))
+    steps = tuple(_step(s, f"steps[{i}]", err, proc) for i, s in enumerate(raw["steps"]))
     expected = _expected(raw.get("expected", {}), err)
     readings = raw.get("readings", [])
-    if not isinstance(readings, list) or any(not re.match(r"^A\d+$", str(r)) for r in readings):
-        raise err("readings", "a list of ambiguity numbers such as \"A11\"")
+    if not isinstance(readings, list) or any(r not in proc.readings for r in readings):
+        bad = next((r for r in readings if r not in proc.readings), readings) if isinstance(readings, list) else readings
+        raise err("readings", f"{bad!r}: a list of the manual's open points this procedure has readings for "
+                  f"({proc.readings[0]}..{proc.readings[-1]})" if proc.readings else "this procedure has no readings")
     for key in ("provenance", "notes"):
         if key in raw and not isinstance(raw[key], str):
             raise err(key, "must be a string")
     if not isinstance(raw.get("timing_sensitive", False), bool):
         raise err("timing_sensitive", "must be true or false")
-    return Vector(
+    setup = _setup(raw.get("setup"), proc, err)
+    extra = raw.get("extra", {})
+    if not isinstance(extra, dict):
+        raise err("extra", "must be a table")
+    v = Vector(
         id=raw["id"], title=raw["title"].strip(), reference=raw["reference"].strip(),
         rule=raw["rule"].strip(), group=raw["group"], iut_role=raw["iut_role"], params=params,
         steps=steps, expected=expected, start=start, requires=frozenset(requires),
         readings=tuple(readings), provenance=raw.get("provenance", ""),
         notes=raw.get("notes", "").strip(), source=source, binds=tuple(binds),
         tester_params=tester_params, timing_sensitive=raw.get("timing_sensitive", False),
+        procedure=proc.id, setup=setup, extra=dict(extra),
     )
+    check_times(v, err)
+    return v
 
 
-def _params(raw: Any, fld: str, err) -> Params3964:
+def _setup(raw: Any, proc, err) -> tuple[str, dict[str, Any]] | None:
+    if raw is None:
+        return None
+    if isinstance(raw, str):
+        name, args = raw, {}
+    elif isinstance(raw, dict) and isinstance(raw.get("name"), str):
+        name, args = raw["name"], {k: v for k, v in raw.items() if k != "name"}
+    else:
+        raise err("setup", "a setup name, or a table { name = \"...\", argument = value, ... }")
+    if name not in proc.setups:
+        raise err("setup", f"{name!r}: known setups of {proc.title}: {', '.join(proc.setups) or 'none'}")
+    return name, args
+
+
+def check_times(v: Vector, err) -> None:
+    """Every time expression of ``v`` names only what its procedure knows, and evaluates to
+    a finite number for the vector's parameters (a window that cannot be computed would
+    otherwise be found only at run time, or pass silently as NaN)."""
+    import math
+
+    allowed = set(BASE_TIME_NAMES) | set(v.proc.time_names)
+    env = timer_env(v)
+    for i, s in enumerate(v.steps):
+        for key in ("at", "gap", "duration", "after", "within", "max_gap"):
+            e = getattr(s, key)
+            bad = names_in(e) - allowed
+            if bad:
+                raise err(f"steps[{i}].{key}", f"{e.text!r}: {sorted(bad)[0]} is not a timer of {v.proc.title} "
+                          f"(allowed: {', '.join(sorted(allowed))})")
+            try:
+                value = e.eval(env)
+            except (ZeroDivisionError, OverflowError):
+                raise err(f"steps[{i}].{key}", f"{e.text!r} cannot be computed (division by zero or overflow)") from None
+            if not math.isfinite(value):
+                raise err(f"steps[{i}].{key}", f"{e.text!r} is not a finite duration")
+            if key in ("duration", "gap", "max_gap") and value < 0:
+                raise err(f"steps[{i}].{key}", f"{e.text!r} is negative")
+            if key == "within" and value < 0:
+                raise err(f"steps[{i}].{key}", f"{e.text!r}: a window cannot close before the reference point")
+            if key == "within" and value < getattr(s, "after").eval(env):
+                raise err(f"steps[{i}].{key}", f"{e.text!r} closes the window before 'after' opens it")
+
+
+def _params(proc, raw: Any, fld: str, err):
     if not isinstance(raw, dict):
         raise err(fld, "must be a table of parameters")
     try:
-        return Params3964.from_dict(raw)
-    except ParameterError as exc:
-        raise err(f"{fld}.{exc.name}", str(exc)) from None
-    except TypeError as exc:
-        raise err(fld, str(exc)) from None
+        return proc.params_from_table(raw)
+    except ProcedureError as exc:
+        raise err(f"{fld}.{exc.key}" if exc.key else fld, str(exc).split(": ", 1)[-1]) from None
 
 
 _REPEAT = re.compile(r"^([0-9A-Fa-f]{2})\*(\d+)$")
+#: the longest run one ``XX*N`` token may stand for: the longest block on the line (1024
+#: data bytes, every one a doubled DLE, with its framing), and the most one step may hold
+MAX_REPEAT = 2 * 1024 + 8
+MAX_STEP_BYTES = 64 * 1024
 
 
 def parse_vector_hex(text: str) -> bytes:
@@ -455,9 +543,17 @@ def parse_vector_hex(text: str) -> bytes:
     for token in text.split():
         m = _REPEAT.match(token)
         if m:
-            out += bytes([int(m.group(1), 16)]) * int(m.group(2))
+            n = int(m.group(2))
+            if n > MAX_REPEAT:
+                raise ValueError(f"{token!r}: at most {MAX_REPEAT} repetitions (the longest block on the line)")
+            out += bytes([int(m.group(1), 16)]) * n
+        elif re.fullmatch(r"[A-Za-z_]\w*", token) and not re.fullmatch(r"[0-9A-Fa-f]+", token):
+            raise ValueError(f"{token!r}: names are not allowed here; write the bytes in hex "
+                             "(e.g. 02 for STX, 10 for DLE)")
         else:
             out += codec.parse_hex(token)
+        if len(out) > MAX_STEP_BYTES:
+            raise ValueError(f"more than {MAX_STEP_BYTES} bytes in one step")
     return bytes(out)
 
 
@@ -506,10 +602,12 @@ def _expr(value: Any, fld: str, err, duration: bool = True) -> Expr:
     return e
 
 
-def _step(raw: Any, fld: str, err) -> Step:
+def _step(raw: Any, fld: str, err, proc=None) -> Step:
     if not isinstance(raw, dict):
         raise err(fld, "must be a table such as { send = \"02\" }")
     kinds = [k for k in STEP_KINDS if k in raw]
+    if kinds and kinds[0] in MACRO_KINDS and proc is not None and kinds[0] not in proc.macro_steps:
+        raise err(fld, f"a {kinds[0]} step is not available for {proc.title}")
     if len(kinds) != 1:
         raise err(fld, f"must have exactly one of {', '.join(STEP_KINDS)} (has {', '.join(kinds) or 'none'})")
     kind = kinds[0]
@@ -658,24 +756,19 @@ def load_vector_sets(extra=(), *, only: bool = False) -> list[Vector]:
 
 # ------------------------------------------------------------------ expansion
 def expand(vector: Vector) -> tuple[Step, ...]:
-    """Replace ``prime`` steps by the conforming sender's exchange they stand for."""
+    """Replace the procedure's macro steps (e.g. ``prime``) by the send/expect steps they
+    stand for."""
     out: list[Step] = []
-    proc = vector.params.procedure
+    proc = vector.proc
     for s in vector.steps:
-        if s.kind != "prime":
+        if s.kind in MACRO_KINDS:
+            out += proc.expand(s, vector.params)
+        else:
             out.append(s)
-            continue
-        note = s.note or f"the tester delivers {codec.hexstr(s.data)} as a conforming sender"
-        out += [
-            Step("send", bytes([codec.STX]), note=f"STX ({note})"),
-            Step("expect", bytes([codec.DLE]), within=Expr("ADT"), note="DLE: setup acknowledged"),
-            Step("send", codec.body(s.data, proc), note="block: data, DLE ETX" + (", BCC" if proc == "3964R" else "")),
-            Step("expect", bytes([codec.DLE]), within=Expr("ADT"), note="DLE: block acknowledged"),
-        ]
     return tuple(out)
 
 
-def with_params(vector: Vector, params: Params3964) -> Vector:
+def with_params(vector: Vector, params: Any) -> Vector:
     """The vector run with another parameter set (e.g. an IUT profile's timers)."""
     return replace(vector, params=params)
 
@@ -703,14 +796,14 @@ def dump_vector(vector: Vector, header: str = "") -> str:
         lines += ["# " + line if line else "#" for line in header.splitlines()]
         lines.append("")
     for key, value in d.items():
-        if key in ("params", "tester_params", "expected", "steps"):
+        if key in ("params", "tester_params", "expected", "steps", "extra"):
             continue
         lines.append(f"{key} = {_toml_value(value)}")
     lines.append("steps = [")
     for s in d["steps"]:
         lines.append(f"  {_toml_value(s)},")
     lines.append("]")
-    for table in ("params", "tester_params", "expected"):
+    for table in ("params", "tester_params", "expected", "extra"):
         if table in d:
             lines.append("")
             lines.append(f"[{table}]")

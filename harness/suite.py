@@ -1,31 +1,38 @@
-"""The set of cases a run executes: the golden vectors plus the conformance suite,
-selected by id globs and ordered so that long waits come last."""
+"""The cases a run executes: the golden vectors of the profile's procedure plus the
+conformance suite generated for the profile, selected by id globs and ordered as the manual
+is. This module sits at the command line's level: it is the one place (with the pytest
+plugin) that hands the suite's cases to the runner."""
 
 from __future__ import annotations
 
 import fnmatch
 
-from .model import Params3964
-from .scenario import GROUPS, Vector
+from .profile import Profile
+from .scenario import Vector
 
 
-def load_suite(params: Params3964, vectors: list[Vector], *, include_suite: bool = True,
+def load_suite(profile: Profile, vectors: list[Vector], *, include_suite: bool = True,
                select: list[str] | None = None) -> list[Vector]:
+    """The vectors of ``profile``'s procedure, plus (``include_suite``) the suite's cases,
+    selected by ``select`` (id globs). Ids must be unique."""
+    proc = profile.procedure
+    out = [v for v in vectors if v.procedure == proc.id]
     if include_suite:
-        import ptpcert.conformance as conformance
-        vectors = vectors + conformance.cases(params)
+        from . import conformance
+        out = out + conformance.cases(profile)
     seen: dict[str, Vector] = {}
-    for v in vectors:
+    for v in out:
         if v.id in seen:
             raise ValueError(f"case id {v.id} is used twice ({seen[v.id].source or 'suite'} and {v.source or 'suite'})")
         seen[v.id] = v
     if select:
-        vectors = [v for v in vectors if any(fnmatch.fnmatchcase(v.id, g) for g in select)]
-    return order(vectors)
+        out = [v for v in out if any(fnmatch.fnmatchcase(v.id, g) for g in select)]
+    return order(out, proc.groups)
 
 
-def order(vectors: list[Vector]) -> list[Vector]:
-    """The manual's order: start-up, idle, receive, send, release, repetition, conflict,
-    BREAK, character errors, timing; the suite's cases before the golden vectors of a group."""
-    rank = {g: i for i, g in enumerate(GROUPS)}
+def order(vectors: list[Vector], groups: tuple[str, ...]) -> list[Vector]:
+    """The manual's order of groups (for 3964: start-up, idle, receive, send, release,
+    repetition, conflict, BREAK, character errors, timing); the suite's cases before the
+    golden vectors of a group."""
+    rank = {g: i for i, g in enumerate(groups)}
     return sorted(vectors, key=lambda v: (rank.get(v.group, len(rank)), not v.id.startswith("SUITE."), v.id))

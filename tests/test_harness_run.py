@@ -23,6 +23,17 @@ SAMPLE = ["3964R.FIG2-6.RECEIVE", "3964R.FIG2-7.PARITY", "3964R.D03.*", "3964R.D
           "3964R.D14.*", "3964R.D21.*", "3964R.FIG2-8.CONFLICT-IUT-LOW", "3964R.D01.*"]
 
 
+def without_setups(tmp_path, text=None):
+    """The reference profile for an IUT that knows none of the reference's setups (the
+    independent implementation has no --buffer option)."""
+    text = PROFILE.read_text() if text is None else text
+    start = text.index("[iut.setups]")
+    end = text.index("[", start + 1)
+    prof = tmp_path / "independent.toml"
+    prof.write_text(text[:start] + text[end:])
+    return prof
+
+
 def ptpcert(*args, timeout=240, **kw):
     return subprocess.run([PY, "-m", "ptpcert.cli", *args], cwd=ROOT, capture_output=True, text=True,
                           timeout=timeout, **kw)
@@ -69,7 +80,7 @@ def test_reference_implementation_passes(tmp_path, scheme):
 
 @pytest.mark.realtime
 def test_independent_correct_implementation_passes(tmp_path):
-    p, data, _ = run_json(tmp_path, f"exec:{INDEPENDENT}", globs=["3964R.*"], profile=PROFILE)
+    p, data, _ = run_json(tmp_path, f"exec:{INDEPENDENT}", globs=["3964R.*"], profile=without_setups(tmp_path))
     assert p.returncode == 0, p.stdout[-3000:]
     assert "fail" not in verdicts(data).values()
 
@@ -189,9 +200,7 @@ def test_sim_transport_runs_everything_in_virtual_time(tmp_path):
     p, data, _ = run_json(tmp_path, "sim:", globs=["3964R.*"])
     assert p.returncode == 0, p.stdout[-2000:]
     v = verdicts(data)
-    assert v["3964R.D05.NO-FREE-BUFFER"] == "unsupported"  # the buffer is free on sim: unless asked
-    p, data, _ = run_json(tmp_path, "sim:?buffer=full", globs=["3964R.D05.*"])
-    assert verdicts(data)["3964R.D05.NO-FREE-BUFFER"] == "pass"
+    assert v["3964R.D05.NO-FREE-BUFFER"] == "pass"  # sim: builds the no_buffer setup in
 
 
 @pytest.mark.realtime
@@ -230,7 +239,7 @@ def _edge_run(tmp_path, case_id, k, **opts):
     counter = tmp_path / f"starts-{case_id}-{k}"
     url = f"exec:{PY} {ROOT / 'tests' / 'fakes' / 'early_first.py'} {counter} {k} --cdt-ms 200 --adt-ms 20 --parmrk"
     factory = make_factory(url, profile, prespawn=0)  # one process per attempt, started in order
-    (case,) = load_suite(profile.params, load_vector_sets(), select=[case_id])
+    (case,) = load_suite(profile, load_vector_sets(), select=[case_id])
     try:
         res = Runner(factory, profile, RunOptions(retry_pause=(0.01,), timing_retries=20, **opts)).run_case(case)
     finally:
@@ -278,3 +287,31 @@ def test_a_failure_in_the_bytes_away_from_a_timer_edge_is_not_run_again(tmp_path
 def test_edge_attempts_must_be_positive(tmp_path):
     p = ptpcert("run", "--iut", "sim:", "--profile", str(PROFILE), "--edge-attempts", "0")
     assert p.returncode == 2 and "--edge-attempts must be 1 or more" in p.stderr
+
+
+@pytest.mark.realtime
+def test_a_case_with_a_setup_runs_the_iut_with_the_profiles_words(tmp_path):
+    """[iut.setups]: the no_buffer case starts the IUT with the words the profile names for
+    it (ptpcert iut --buffer full); a profile without them makes the case unsupported."""
+    p, data, _ = run_json(tmp_path, f"exec:{IUT}", globs=["3964R.D05.*", "3964R.D02.*"])
+    assert p.returncode == 0, p.stdout[-2000:]
+    assert verdicts(data) == {"3964R.D05.NO-FREE-BUFFER": "pass", "3964R.D02.NAK-IN-IDLE": "pass"}
+    bare = tmp_path / "bare.toml"
+    bare.write_text(PROFILE.read_text().replace('no_buffer = "--buffer full"', ""))
+    p, data, _ = run_json(tmp_path, f"exec:{IUT}", profile=bare, globs=["3964R.D05.*"])
+    (case,) = data["cases"]
+    assert case["verdict"] == "unsupported" and "no_buffer" in case["message"]
+    # the words really reach the IUT: a setup that does not fill the buffer fails the case
+    wrong = tmp_path / "wrong.toml"
+    wrong.write_text(PROFILE.read_text().replace('no_buffer = "--buffer full"', 'no_buffer = "--buffer free"'))
+    p, data, _ = run_json(tmp_path, f"exec:{IUT}", profile=wrong, globs=["3964R.D05.*"])
+    assert verdicts(data)["3964R.D05.NO-FREE-BUFFER"] == "fail"
+
+
+def test_unknown_setups_and_sim_options_are_usage_errors(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(PROFILE.read_text().replace("no_buffer =", "no_bufer ="))
+    p = ptpcert("run", "--iut", "sim:", "--profile", str(bad))
+    assert p.returncode == 2 and "iut.setups.no_bufer" in p.stderr and "no_buffer" in p.stderr
+    p = ptpcert("run", "--iut", "sim:?mutant=nosuch", "--profile", str(PROFILE))
+    assert p.returncode == 2 and "nosuch" in p.stderr and "no-dle-doubling" in p.stderr

@@ -40,7 +40,7 @@ MB2 = 2 * 1024 * 1024
 def sim_run(profile=None, select=None) -> R.RunResult:
     """The suite against the reference model in-process (virtual time: well under a second)."""
     profile = profile or load_profile(PROFILE)
-    cases = load_suite(profile.params, load_vector_sets(), select=select)
+    cases = load_suite(profile, load_vector_sets(), select=select)
     factory = make_factory("sim:", profile)
     runner = Runner(factory, profile, RunOptions(echo=profile.echo, check_status=profile.status_from_stderr))
     result = R.RunResult(tool_version="test", started="2026-01-01T00:00:00+00:00", iut="sim:",

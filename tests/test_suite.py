@@ -15,7 +15,7 @@ from ptpcert import results as R
 from ptpcert.mutants import MUTANTS
 from ptpcert.profile import reference_profile
 from ptpcert.runner import RunOptions, Runner
-from ptpcert.scenario import GROUPS
+from ptpcert.procedures.p3964 import GROUPS
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
 from ptpcert.transport import make_factory
@@ -26,7 +26,7 @@ COMBOS = [(proc, prio) for proc in ("3964R", "3964") for prio in ("low", "high")
 
 
 def run_sim(url: str, profile) -> R.RunResult:
-    cases = load_suite(profile.params, load_vector_sets())
+    cases = load_suite(profile, load_vector_sets())
     res = R.RunResult(tool_version="test", started="")
     Runner(make_factory(url, profile), profile, RunOptions()).run(cases, res)
     return res
@@ -44,19 +44,19 @@ def test_suite_passes_the_model(proc, prio):
 
 def test_every_case_cites_its_rule_and_groups_follow_the_manual():
     for proc, prio in COMBOS:
-        for v in conformance.cases(reference_profile(procedure=proc, priority=prio).params):
+        for v in conformance.cases(reference_profile(procedure=proc, priority=prio)):
             assert v.id.startswith("SUITE.") and v.group in GROUPS
             assert v.rule.endswith(".") and len(v.rule) > 30
             assert "3964r.md" in v.reference or "Table" in v.reference or "§" in v.reference
             assert v.expected.iut_status is not None
-    groups = {v.group for v in conformance.cases(reference_profile().params)}
+    groups = {v.group for v in conformance.cases(reference_profile())}
     assert {"start-up", "idle", "receive", "send", "release", "repetition", "conflict", "break",
             "character-error", "timing"} <= groups
 
 
 def test_conflict_cases_follow_the_profiles_priority():
-    low = [v.id for v in conformance.cases(reference_profile(priority="low").params) if v.group == "conflict"]
-    high = [v.id for v in conformance.cases(reference_profile(priority="high").params) if v.group == "conflict"]
+    low = [v.id for v in conformance.cases(reference_profile(priority="low")) if v.group == "conflict"]
+    high = [v.id for v in conformance.cases(reference_profile(priority="high")) if v.group == "conflict"]
     assert low and all("LOW" in i for i in low)
     assert high and all("HIGH" in i for i in high)
 

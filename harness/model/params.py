@@ -9,6 +9,8 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field, fields, replace
 from typing import Any
 
+from .line import LineSettings
+
 BAUD_RATES = (300, 600, 1200, 2400, 4800, 9600, 19200, 38400, 57600, 76800)
 PARITIES = ("none", "odd", "even")
 PRIORITIES = ("low", "high")
@@ -109,12 +111,16 @@ class Params3964:
 
     # -- derived values -------------------------------------------------------------
     @property
+    def line(self) -> LineSettings:
+        """The serial line's settings: baud rate and character frame (§1 item 2)."""
+        return LineSettings(self.baud_rate, self.data_bits, self.parity, self.stop_bits)
+
+    @property
     def bits_per_char(self) -> int:
-        """Start bit + data bits + parity bit (if any) + stop bits (§1 item 2)."""
-        return 1 + self.data_bits + (0 if self.parity == "none" else 1) + self.stop_bits
+        return self.line.bits_per_char
 
     def _char_time(self) -> float:
-        return 0.0 if self.baud_rate is None else self.bits_per_char / self.baud_rate
+        return self.line.char_time
 
     @property
     def cdt(self) -> float:

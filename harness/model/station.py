@@ -264,6 +264,11 @@ class Station3964:
                 and self.deferred is None and not self._jobs)
 
     @property
+    def transmitting(self) -> bool:
+        """Bytes are still scheduled to go out on the line."""
+        return bool(self._tx)
+
+    @property
     def pending_jobs(self) -> int:
         return len(self._jobs) + (self.job is not None) + (self.deferred is not None)
 

@@ -3,8 +3,12 @@ into a factory that gives the runner a transport for each case."""
 
 from __future__ import annotations
 
-from ..model import Params3964
-from .base import BREAK, CHAR_ERROR, RESTART, STATUS, CloseInfo, IUTDied, Transport, TransportError
+import shutil
+import tempfile
+from typing import Any, Callable
+
+from .base import (BREAK, CHAR_ERROR, RESTART, SETUPS, STATUS, CloseInfo, IUTDied, Transport,
+                   TransportError)
 
 SCHEMES = "exec:COMMAND, pty:COMMAND (with {port}), sim:[?options], or a pyserial URL / device path"
 
@@ -22,7 +26,7 @@ class Factory:
         self.virtual = virtual
         self._shutdown = shutdown
 
-    def __call__(self, vector, params: Params3964) -> Transport:
+    def __call__(self, vector, params: Any) -> Transport:
         return self._make(vector, params)
 
     def shutdown(self) -> None:
@@ -31,76 +35,131 @@ class Factory:
 
 
 class ProcessFactory(Factory):
-    """Starts a fresh IUT process per case. With ``prespawn`` the next case's process is
-    started while the current case runs, so its start-up overlaps the current case's waits."""
+    """Starts a fresh IUT process per case. Processes are started ahead: ``prespawn`` of the
+    plain command while the current case runs, so their start-up overlaps its waits, and
+    the next case's own when the runner announces it (:meth:`prepare`) and it needs a
+    command of its own (a setup, a request script)."""
 
-    def __init__(self, cls, command: str, parmrk: bool, status: bool, prespawn: int = 2):
+    def __init__(self, cls, command: str, parmrk: bool, status: bool, prespawn: int = 2,
+                 command_for: Callable[[Any, str], str | None] | None = None):
         self.cls, self.command, self.parmrk, self.status = cls, command, parmrk, status
         probe = cls(command, parmrk=parmrk, status=status)
-        super().__init__(None, probe.capabilities)
+        super().__init__(None, probe.capabilities | ({SETUPS} if command_for else frozenset()))
         self.prespawn = int(prespawn)
-        self._ready: list[Transport] = []
+        self._command_for = command_for
+        self._ready: dict[str, list[Transport]] = {}
+        self._workdir: str | None = None
 
-    def _started(self) -> Transport:
-        t = self.cls(self.command, parmrk=self.parmrk, status=self.status)
+    @property
+    def workdir(self) -> str:
+        """A private directory for the files per-case commands need (request scripts)."""
+        if self._workdir is None:
+            self._workdir = tempfile.mkdtemp(prefix="ptpcert-iut-")
+        return self._workdir
+
+    def command_for(self, vector) -> str:
+        if vector is None or self._command_for is None:
+            return self.command
+        cmd = self._command_for(vector, self.workdir)
+        if cmd is None:
+            raise TransportError(f"case {vector.id}: the profile has no setup {vector.setup[0]!r}")
+        return cmd
+
+    def _started(self, command: str) -> Transport:
+        t = self.cls(command, parmrk=self.parmrk, status=self.status)
         t.open()
         return t
 
-    def __call__(self, vector, params: Params3964) -> Transport:
-        t = self._ready.pop(0) if self._ready else self._started()
-        while len(self._ready) < self.prespawn:
+    def __call__(self, vector, params: Any) -> Transport:
+        cmd = self.command_for(vector)
+        ready = self._ready.get(cmd)
+        t = ready.pop(0) if ready else self._started(cmd)
+        plain = self._ready.setdefault(self.command, [])
+        while len(plain) < self.prespawn:
             try:
-                self._ready.append(self._started())
+                plain.append(self._started(self.command))
             except TransportError:
                 break
         return t
 
+    def prepare(self, vector, params: Any) -> None:
+        """The runner's next case: start its IUT now if it needs a command of its own."""
+        try:
+            cmd = self.command_for(vector)
+        except TransportError:
+            return
+        if cmd != self.command and not self._ready.get(cmd):
+            try:
+                self._ready.setdefault(cmd, []).append(self._started(cmd))
+            except TransportError:
+                pass
+
     def shutdown(self) -> None:
-        while self._ready:
-            self._ready.pop().close()
+        for ready in self._ready.values():
+            while ready:
+                ready.pop().close()
+        self._ready.clear()
+        if self._workdir is not None:
+            shutil.rmtree(self._workdir, ignore_errors=True)
+            self._workdir = None
 
 
-def make_factory(url: str, profile=None, *, prespawn: int = 2) -> Factory:
-    """Turn an ``--iut`` URL into a :class:`Factory`."""
+def sim_factory(procedure, options: dict[str, str] | None = None, *, readings=None,
+                url: str = "sim:") -> Factory:
+    """The one builder of ``sim:`` transports: the procedure's model plays the IUT in
+    virtual time, set up by ``options`` (the sim: URL's query: app, mutant, and the
+    procedure's own, e.g. 3964's priority and buffer) and, where given, other ``readings``
+    of the manual's open points."""
+    from .sim import SimTransport
+
+    options = dict(options or {})
+    caps, _ = procedure.sim_options(options)
+
+    def make(vector, params):
+        params = procedure.sim_params(params, options)
+        if vector is not None:
+            options_ = dict(options)
+            host_factory = lambda p: procedure.sim_host(p, vector, options_, readings)  # noqa: E731
+            tester = procedure.tester_params(params, vector.tester_params)
+        else:
+            host_factory = lambda p: procedure.sim_host(p, None, options, readings)  # noqa: E731
+            tester = params
+        return SimTransport(params, host_factory, url=url, char_time=procedure.char_time(params),
+                            tester_char=procedure.char_time(tester))
+    return Factory(make, SimTransport.capabilities | caps, virtual=True)
+
+
+def make_factory(url: str, profile, *, prespawn: int = 2) -> Factory:
+    """Turn an ``--iut`` URL into a :class:`Factory` for the IUT ``profile`` describes."""
     url = url.strip()
     if not url:
         raise TransportError(f"--iut is empty; use {SCHEMES}")
-    parmrk = profile is not None and profile.line_conditions == "parmrk"
-    status = profile is None or profile.status_from_stderr
-    if url.startswith("exec:"):
-        from .process import ExecTransport
-        return ProcessFactory(ExecTransport, url[5:], parmrk, status, prespawn)
-    if url.startswith("pty:"):
-        from .process import PtyTransport
-        cmd = url[4:]
-        if "{port}" not in cmd:
+    proc = profile.procedure
+    parmrk = profile.line_conditions == "parmrk"
+    status = profile.status_from_stderr
+    if url.startswith("exec:") or url.startswith("pty:"):
+        from .process import ExecTransport, PtyTransport
+        scheme, cmd = url.split(":", 1)
+        if scheme == "pty" and "{port}" not in cmd:
             raise TransportError(f"{url}: the command must contain {{port}}, replaced by the pty device path")
-        return ProcessFactory(PtyTransport, cmd, parmrk, status, prespawn)
-    if url.startswith("sim:"):
-        from .sim import SimTransport, parse_sim_url
-        opts = parse_sim_url(url)
 
-        def make_sim(v, p: Params3964):
-            if "priority" in opts:
-                p = p.with_(priority=opts["priority"])
-            factory = None
-            if opts.get("mutant"):
-                from ..mutants import make_mutant
-                factory = lambda params: make_mutant(opts["mutant"], params)  # noqa: E731
-            return SimTransport(p, app=opts.get("app", "echo"), buffer_free=opts.get("buffer", "free") == "free",
-                                station_factory=factory, url=url,
-                                tester_char=(v.tester_params or p).char_time)
-        caps = SimTransport.capabilities
-        if opts.get("buffer", "free") != "full":
-            caps = caps - {"buffer_control"}  # the model's receive buffer is always free then
-        return Factory(make_sim, caps, virtual=True)
+        def command_for(vector, workdir: str) -> str | None:
+            return proc.command(cmd, vector, profile.setups, workdir)
+        cls = ExecTransport if scheme == "exec" else PtyTransport
+        return ProcessFactory(cls, cmd, parmrk, status, prespawn, command_for)
+    if url.startswith("sim:"):
+        from .sim import parse_sim_url
+        opts = parse_sim_url(url)
+        try:
+            proc.sim_options(dict(opts))
+        except ValueError as exc:
+            raise TransportError(f"{url}: {exc}") from None
+        return sim_factory(proc, opts, url=url)
     from .serialport import SerialTransport
-    if profile is None:
-        raise TransportError(f"{url}: a serial port needs an IUT profile (--profile) for its baud rate and frame")
-    shared = SerialTransport(url, profile.params)
+    shared = SerialTransport(url, profile.line)
     shared.open()
     return Factory(lambda v, p: shared, shared.capabilities, shutdown=shared.shutdown)
 
 
-__all__ = ["BREAK", "CHAR_ERROR", "RESTART", "STATUS", "CloseInfo", "IUTDied", "Transport",
-           "TransportError", "make_factory", "SCHEMES", "Factory", "ProcessFactory"]
+__all__ = ["BREAK", "CHAR_ERROR", "RESTART", "SETUPS", "STATUS", "CloseInfo", "IUTDied", "Transport",
+           "TransportError", "make_factory", "sim_factory", "SCHEMES", "Factory", "ProcessFactory"]

@@ -15,6 +15,7 @@ BREAK = "break"              # can send a BREAK condition to the IUT
 CHAR_ERROR = "char_error"    # can send a character with a parity/framing error
 RESTART = "restart"          # starts a fresh IUT for every case (sees its start-up)
 STATUS = "status"            # collects the STATUS events the IUT reports
+SETUPS = "setups"            # starts the IUT with a per-case command (profile [iut.setups])
 
 STATUS_LINE = re.compile(rb"STATUS\s+16#([0-9A-Fa-f]{4})")
 
@@ -73,6 +74,11 @@ class Transport:
         """STATUS events the IUT reported since the last call (time, code)."""
         return []
 
+    def report_lines(self) -> list[tuple[float, str]]:
+        """Every line the IUT reported (stderr) since the last call, STATUS lines included,
+        for procedures that report more than STATUS (e.g. RK 512 request results)."""
+        return []
+
     def close(self) -> CloseInfo:
         return CloseInfo()
 
@@ -83,11 +89,13 @@ class Transport:
 class StatusParser:
     """Picks ``STATUS 16#XXXX`` lines out of an IUT's stderr stream."""
 
-    def __init__(self, keep: int = 64 * 1024):
+    def __init__(self, keep: int = 64 * 1024, keep_lines: int = 4096):
         self._partial = b""
         self.text = bytearray()
         self.keep = keep
+        self.keep_lines = keep_lines
         self.reports: list[tuple[float, int]] = []
+        self.lines: list[tuple[float, str]] = []
 
     def feed(self, t: float, data: bytes) -> None:
         self.text += data
@@ -99,9 +107,15 @@ class StatusParser:
             m = STATUS_LINE.search(line)
             if m:
                 self.reports.append((t, int(m.group(1), 16)))
+            if len(self.lines) < self.keep_lines:
+                self.lines.append((t, line[:4096].decode("utf-8", "replace").rstrip("\r")))
 
     def drain(self) -> list[tuple[float, int]]:
         out, self.reports = self.reports, []
+        return out
+
+    def drain_lines(self) -> list[tuple[float, str]]:
+        out, self.lines = self.lines, []
         return out
 
     def tail(self, n: int = 2000) -> str:

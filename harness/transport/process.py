@@ -196,6 +196,11 @@ class ProcessTransport(Transport):
             self._drain_stderr()
         return self.parser.drain()
 
+    def report_lines(self) -> list[tuple[float, str]]:
+        if self.proc is not None and not self._closed:
+            self._drain_stderr()
+        return self.parser.drain_lines()
+
     def close(self) -> CloseInfo:
         info = CloseInfo()
         if self.proc is None or self._closed:

@@ -13,14 +13,13 @@ from __future__ import annotations
 import select
 import time
 
-from ..model import Params3964
 from .base import BREAK, CHAR_ERROR, CloseInfo, Transport, TransportError
 
 _NO_BREAK = ("loop://", "socket://", "spy://", "alt://", "hwgrep://")
 
 
 class SerialTransport(Transport):
-    def __init__(self, url: str, params: Params3964):
+    def __init__(self, url: str, params):  # params: the line's settings (model.line.LineSettings)
         self.url = url
         self.params = params
         self.port = None

@@ -1,7 +1,8 @@
 """``sim:`` — the IUT is a model station in this process, in virtual time.
 
 Used by ``ptpcert vectors --check`` (the model plays the IUT), for self-tests and for the
-fastest runs. Options as a query string: ``sim:?app=none&buffer=full&mutant=NAME``.
+fastest runs. Options as a query string, e.g. ``sim:?app=none&mutant=NAME``; the station and
+its application come from the procedure (``transport.sim_factory``), handed in.
 """
 
 from __future__ import annotations
@@ -9,51 +10,44 @@ from __future__ import annotations
 import heapq
 from urllib.parse import parse_qs
 
-from ..model import Host, Params3964, Station3964
 from ..model.events import Delivered, SendDone, Status
 from .base import BREAK, CHAR_ERROR, RESTART, STATUS, Transport, TransportError
 
 
 def parse_sim_url(url: str) -> dict[str, str]:
+    """The options of a ``sim:`` URL (its query string). Which options exist is the
+    procedure's business (Procedure.sim_options checks them)."""
     if not url.startswith("sim:"):
         raise TransportError(f"{url!r} is not a sim: URL")
     rest = url[4:].lstrip("/")
     query = rest[1:] if rest.startswith("?") else rest
-    opts = {k: v[-1] for k, v in parse_qs(query, keep_blank_values=True).items()}
-    unknown = sorted(set(opts) - {"app", "buffer", "mutant", "priority"})
-    if unknown:
-        raise TransportError(f"{url}: unknown option {unknown[0]!r} (known: app, buffer, mutant, priority)")
-    if opts.get("buffer", "free") not in ("free", "full"):
-        raise TransportError(f"{url}: buffer must be free or full")
-    return opts
+    return {k: v[-1] for k, v in parse_qs(query, keep_blank_values=True).items()}
 
 
 class SimTransport(Transport):
     virtual = True
-    capabilities = frozenset({BREAK, CHAR_ERROR, RESTART, STATUS, "buffer_control"})
+    capabilities = frozenset({BREAK, CHAR_ERROR, RESTART, STATUS})
 
-    def __init__(self, params: Params3964, *, app: str = "echo", buffer_free: bool = True,
-                 station_factory=None, url: str = "sim:", tester_char: float | None = None):
+    def __init__(self, params, host_factory, *, url: str = "sim:", char_time: float = 0.0,
+                 tester_char: float | None = None):
         self.url = url
         self.params = params
-        self.app = app
-        self.buffer_free = buffer_free
-        self._factory = station_factory or (lambda p: Station3964(p, name="iut"))
-        self._tester_char = params.char_time if tester_char is None else tester_char
+        self._host_factory = host_factory
+        self._char = char_time
+        self._tester_char = char_time if tester_char is None else tester_char
         self._now = 0.0
         self.events: list = []
 
     # -- life cycle ---------------------------------------------------------------
     def open(self) -> None:
-        self.station: Station3964 = self._factory(self.params)
-        self.host = Host(self.station, self.app)
+        self.host = self._host_factory(self.params)
+        self.station = self.host.station
         self._arrivals: list[tuple[float, int, str, int]] = []
         self._seq = 0
         self._out: list[tuple[float, int]] = []   # IUT bytes, completion time
         self._status: list[tuple[float, int]] = []
+        self._lines: list[tuple[float, str]] = []
         self.events = []
-        if not self.buffer_free:
-            self.station.buffer_free = False
         self.station.power_on(self._now)
         self._collect()
 
@@ -110,7 +104,7 @@ class SimTransport(Transport):
                 return []
 
     def _collect(self) -> None:
-        char = self.params.char_time
+        char = self._char
         for start, b in self.station.pop_output(self._now):
             self._out.append((start + char, b))
         self._out.sort()
@@ -118,9 +112,17 @@ class SimTransport(Transport):
             self.events.append(e)
             if isinstance(e, Status):
                 self._status.append((e.time, e.code))
+            report = getattr(self.host, "report_line", None)
+            line = report(e) if report is not None else None
+            if line:
+                self._lines.append((e.time, line))
 
     def status_reports(self) -> list[tuple[float, int]]:
         out, self._status = self._status, []
+        return out
+
+    def report_lines(self) -> list[tuple[float, str]]:
+        out, self._lines = self._lines, []
         return out
 
     def delivered(self) -> list[bytes]:

@@ -1,0 +1,237 @@
+"""The procedure-neutral core: what the harness needs to know about one procedure.
+
+A :class:`Procedure` describes one of the CP 341's procedures (3964/3964R, RK 512, the ASCII
+driver) to the rest of ptpcert: the names it has in a profile and its own profile tables,
+how its parameters are read and written, the timers its time expressions may name, its
+sans-IO station and application (for ``sim:``, ``vectors --check`` and the tester's
+conforming partner), how a per-case IUT command is made, how its frames are named in
+transcripts and reports, its broken variants and its fuzz kit. The runner, the transports,
+the driver, the reports and the CLI use only this description; each procedure is a module
+of :mod:`ptpcert.procedures` that fills it in.
+
+The case generator is the one part that is not here: the suite (``ptpcert.conformance``)
+sits above the harness, and only the command line hands its cases to the runner.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable, Mapping
+
+
+class ProcedureError(ValueError):
+    """A profile, vector or option that does not fit the procedure. ``key`` names what is
+    wrong (e.g. ``iut.procedure`` or ``params.cdt_ms``)."""
+
+    def __init__(self, key: str, message: str):
+        self.key = key
+        super().__init__(f"{key}: {message}" if key else message)
+
+
+@dataclass(frozen=True)
+class Mutant:
+    """A deliberately broken variant of the reference implementation, breaking one rule."""
+
+    name: str
+    rule: str                  # the rule it breaks, with its manual reference
+    make: Callable[..., Any]   # make(params, name=...) -> station
+    #: profile settings under which the broken rule shows (e.g. the priority it concerns)
+    profile: Mapping[str, Any] = None  # type: ignore[assignment]
+
+    def __post_init__(self) -> None:
+        if self.profile is None:
+            object.__setattr__(self, "profile", {})
+
+
+class Procedure:
+    """The description of one procedure. Subclasses fill in every method."""
+
+    #: stable id: the vectors folder, the JSON results, the ``procedure`` key of a vector
+    id: str = ""
+    #: for people: "3964/3964R", "RK 512", "ASCII driver"
+    title: str = ""
+    #: values of the profile's ``[iut] procedure`` key that select this procedure
+    names: tuple[str, ...] = ()
+    #: the profile tables of its own (besides [iut], [iut.setups], [expected_failures])
+    tables: tuple[str, ...] = ()
+    #: case groups, in the manual's order (reports and the run order follow it)
+    groups: tuple[str, ...] = ()
+    #: names a time expression may use besides CHAR and STARTUP
+    time_names: tuple[str, ...] = ()
+    #: the open points of the manual this procedure's model has readings for (e.g. A11)
+    readings: tuple[str, ...] = ()
+    #: the capabilities a vector may ``require`` (besides those every procedure knows)
+    requirements: tuple[str, ...] = ()
+    #: names of the ``[iut.setups]`` entries its cases may use
+    setups: tuple[str, ...] = ()
+    #: step kinds of its own, expanded into send/expect steps before a run (e.g. prime)
+    macro_steps: tuple[str, ...] = ()
+
+    # -- profiles and parameters ----------------------------------------------------------
+    def params_from_profile(self, iut: dict[str, Any], tables: dict[str, dict[str, Any]]) -> Any:
+        """The parameters from the profile's [iut] keys (the common ones removed) and its own
+        tables. Raises :class:`ProcedureError` naming the key."""
+        raise NotImplementedError
+
+    def profile_keys(self) -> tuple[str, ...]:
+        """The [iut] keys it reads (for the error that lists the allowed keys)."""
+        raise NotImplementedError
+
+    def profile_dict(self, params: Any) -> dict[str, Any]:
+        """The parameters as profile keys, for reports."""
+        raise NotImplementedError
+
+    def params_from_table(self, raw: dict[str, Any]) -> Any:
+        """A vector's [params] table. Raises :class:`ProcedureError` naming the key."""
+        raise NotImplementedError
+
+    def params_table(self, params: Any) -> dict[str, Any]:
+        """Inverse of :meth:`params_from_table`."""
+        raise NotImplementedError
+
+    def param_names(self) -> frozenset[str]:
+        """Parameter names a vector may bind (``binds``)."""
+        raise NotImplementedError
+
+    def line(self, params: Any):
+        """The serial line's settings (:class:`ptpcert.model.line.LineSettings`)."""
+        return params.line
+
+    def char_time(self, params: Any) -> float:
+        return self.line(params).char_time
+
+    def timer_env(self, params: Any) -> dict[str, float]:
+        """Values of the names a time expression may use (seconds), CHAR included."""
+        raise NotImplementedError
+
+    def edge_timers(self, params: Any) -> tuple[float, ...]:
+        """The IUT's timers that watch the tester's pace: a stimulus later than the
+        shortest of them may be judged late; the line is quiet after the longest."""
+        raise NotImplementedError
+
+    def startup_bytes(self, params: Any) -> bytes:
+        """What a freshly started station sends on its own (3964's NAK, ASCII's XON)."""
+        return b""
+
+    def tester_params(self, params: Any, declared: Any | None = None) -> Any:
+        """The parameters of a conforming partner in the tester's seat."""
+        return declared if declared is not None else params
+
+    # -- steps ----------------------------------------------------------------------------
+    def expand(self, step: Any, params: Any) -> list[Any]:
+        """A step of one of :attr:`macro_steps` as the send/expect steps it stands for."""
+        raise NotImplementedError
+
+    # -- models ---------------------------------------------------------------------------
+    def station(self, params: Any, *, name: str = "iut", mutant: str | None = None,
+                readings: Any | None = None, explain: bool = False) -> Any:
+        """A sans-IO station (the reference, or a broken variant)."""
+        raise NotImplementedError
+
+    def host(self, station: Any, *, app: str = "echo", vector: Any | None = None) -> Any:
+        """The station with its application (``.station``, ``.drain(now)``): ``echo`` or
+        ``none``, set up as ``vector`` needs (its setup, its requests...)."""
+        raise NotImplementedError
+
+    def apps(self) -> tuple[str, ...]:
+        return ("echo", "none")
+
+    # -- sim: -----------------------------------------------------------------------------
+    #: options of a ``sim:`` URL every procedure knows
+    SIM_OPTIONS = ("app", "mutant")
+
+    def sim_option_names(self) -> tuple[str, ...]:
+        return self.SIM_OPTIONS
+
+    def sim_options(self, options: dict[str, str]) -> tuple[frozenset[str], dict[str, str]]:
+        """Check a ``sim:`` URL's options; return the capabilities they add and the options.
+        Raises ValueError with a message naming what is allowed."""
+        known = self.sim_option_names()
+        unknown = sorted(set(options) - set(known))
+        if unknown:
+            raise ValueError(f"unknown option {unknown[0]!r} (known: {', '.join(known)})")
+        app = options.get("app", "echo")
+        if app not in self.apps():
+            raise ValueError(f"app={app!r}: allowed values are {', '.join(self.apps())}")
+        mutant = options.get("mutant")
+        if mutant is not None and mutant not in self.mutants():
+            raise ValueError(f"mutant={mutant!r} is not a broken variant of {self.title}; known: "
+                             + ", ".join(self.mutants()))
+        return frozenset(), options
+
+    def sim_params(self, params: Any, options: dict[str, str]) -> Any:
+        """The parameters of the model IUT, as the ``sim:`` options change them."""
+        return params
+
+    def sim_host(self, params: Any, vector: Any, options: dict[str, str], readings: Any = None) -> Any:
+        """The model IUT of a ``sim:`` case, with its application."""
+        station = self.station(params, mutant=options.get("mutant") or None, readings=readings)
+        return self.host(station, app=options.get("app", "echo"), vector=vector)
+
+    def partner_done(self, host: Any) -> bool:
+        """The tester's partner is at rest: nothing to send, nothing in progress."""
+        st = host.station
+        return st.idle
+
+    def echo_time_limit(self, params: Any, payloads: list[bytes]) -> float:
+        """How long receiving ``payloads`` back from an echo IUT may take at most."""
+        raise NotImplementedError
+
+    def frame(self, payload: bytes, params: Any) -> bytes:
+        """The bytes an IUT puts on the line to send ``payload`` (for time estimates)."""
+        return bytes(payload)
+
+    def cross_check(self, vector: Any) -> tuple[str, str] | None:
+        """``vectors --check`` beyond the model as IUT: the tester's own script replayed by a
+        model in the tester's seat, where that applies. (verdict, message) or None."""
+        return None
+
+    # -- IUT processes --------------------------------------------------------------------
+    def add_iut_arguments(self, group) -> None:
+        """``ptpcert iut`` options of its own (an argparse argument group)."""
+
+    def params_from_iut(self, args) -> Any:
+        """The parameters from ``ptpcert iut``'s options. Raises ProcedureError."""
+        raise NotImplementedError
+
+    def iut_host(self, params: Any, args) -> Any:
+        """The station and application ``ptpcert iut`` runs in real time."""
+        station = self.station(params, mutant=args.mutant)
+        return self.host(station, app=args.app)
+
+    def command(self, template: str, vector: Any, setups: Mapping[str, str], workdir: str) -> str | None:
+        """The exec:/pty: command for ``vector``: the template with what the case needs
+        (its setup's words appended, files it needs written into ``workdir``). None when
+        the case needs a setup the profile does not have."""
+        setup = getattr(vector, "setup", None) if vector is not None else None
+        if not setup:
+            return template
+        name, args = setup
+        if name not in setups:
+            return None
+        words = setups[name]
+        for k, v in args.items():
+            words = words.replace("{" + k + "}", str(v))
+        return f"{template} {words}"
+
+    def judge_reports(self, vector: Any, lines: list[str]) -> list[str]:
+        """Problems with what the IUT reported on stderr beyond STATUS (e.g. RK 512's RESULT
+        lines); empty: acceptable."""
+        return []
+
+    # -- reports --------------------------------------------------------------------------
+    def describe_frames(self, transcript: list[dict[str, Any]], params: Any) -> list[dict[str, Any]]:
+        """Frames found in a transcript, for reports: dicts with ``dir``, ``t0``, ``t1``,
+        ``label`` (e.g. "block 31 32 (2 bytes)")."""
+        return []
+
+    # -- broken variants and fuzzing ------------------------------------------------------
+    def mutants(self) -> Mapping[str, Mutant]:
+        return {}
+
+    def fuzz_kit(self) -> Any:
+        """The fuzz strategies and oracle (:class:`ptpcert.fuzz.FuzzKit`), or None."""
+        return None
+
+    def __repr__(self) -> str:
+        return f"<procedure {self.id}>"
