@@ -1,0 +1,150 @@
+"""pytest plugin: the conformance cases as pytest items, for vendors whose CI already runs
+pytest.
+
+    pytest --ptpcert-iut 'exec:./my-driver --stdio' --ptpcert-profile my-iut.toml
+
+collects every case of the suite and the golden vectors for the profile as one item each,
+with the case id as its node id and its group as a marker (``-k`` and ``-m`` select), and
+runs it through the same runner as ``ptpcert run``. Verdicts map to pytest outcomes: pass,
+non-strict and informational pass (the grade is shown in the report section), fail fails,
+unsupported skips, an expected failure of the profile is an xfail (an unexpected pass
+fails: strict), and a harness error is a pytest *error*. ``--junitxml`` and pytest-xdist
+(``-n 4``: every worker starts its own IUT processes; use it with exec:, pty: and sim:,
+not with one serial port) work as usual.
+
+Nothing is imported and nothing is collected unless ``--ptpcert-iut`` is given, so the
+plugin costs other pytest runs nothing.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+_STATE = pytest.StashKey[dict]()
+
+
+def pytest_addoption(parser) -> None:
+    g = parser.getgroup("ptpcert", "ptpcert conformance cases")
+    g.addoption("--ptpcert-iut", metavar="URL", default=None,
+                help="run the ptpcert cases against this IUT (exec:COMMAND, pty:COMMAND, sim:, a serial URL)")
+    g.addoption("--ptpcert-profile", metavar="FILE", default=None, help="the IUT profile (TOML)")
+    g.addoption("--ptpcert-vectors", metavar="DIR", action="append", default=[],
+                help="a directory of vectors in addition to the bundled golden vectors (repeatable)")
+    g.addoption("--ptpcert-select", metavar="GLOB", action="append", default=[],
+                help="only cases whose id matches (repeatable; -k works too)")
+    g.addoption("--ptpcert-tolerance-ms", type=float, default=50.0,
+                help="how late a reply may be beyond its window, plus 25%% of the window (default 50)")
+
+
+def _group_marker(group: str) -> str:
+    return "ptpcert_" + group.replace("-", "_")
+
+
+def pytest_configure(config) -> None:
+    url = config.getoption("--ptpcert-iut")
+    if not url:
+        return
+    path = config.getoption("--ptpcert-profile")
+    if not path:
+        raise pytest.UsageError("--ptpcert-iut needs --ptpcert-profile FILE (the IUT profile)")
+    from .procedure import ProcedureError
+    from .profile import ProfileError, load_profile
+    from .scenario import VectorError, load_vector_sets
+    from .suite import load_suite
+
+    try:
+        profile = load_profile(path)
+        cases = load_suite(profile, load_vector_sets(config.getoption("--ptpcert-vectors")),
+                           select=config.getoption("--ptpcert-select") or None)
+    except (ProfileError, VectorError, ProcedureError, ValueError) as exc:
+        raise pytest.UsageError(f"ptpcert: {exc}") from None
+    config.addinivalue_line("markers", "ptpcert: a ptpcert conformance case")
+    for g in profile.procedure.groups:
+        config.addinivalue_line("markers", f"{_group_marker(g)}: ptpcert cases of the group '{g}'")
+    config.stash[_STATE] = {"url": url, "profile": profile, "cases": cases, "runner": None}
+
+
+def pytest_collection_modifyitems(session, config, items) -> None:
+    state = config.stash.get(_STATE, None)
+    if state is None:
+        return
+    for v in state["cases"]:
+        item = CaseItem.from_parent(session, name=v.id, nodeid=v.id, vector=v)
+        item.add_marker("ptpcert")
+        item.add_marker(_group_marker(v.group))
+        items.append(item)
+
+
+def _runner(config):
+    state = config.stash[_STATE]
+    if state["runner"] is None:
+        from .runner import RunOptions, Runner
+        from .transport import TransportError, make_factory
+
+        profile = state["profile"]
+        try:
+            factory = make_factory(state["url"], profile)
+        except TransportError as exc:
+            raise pytest.UsageError(f"ptpcert: {exc}") from None
+        opts = RunOptions(late_ms=config.getoption("--ptpcert-tolerance-ms"), echo=profile.echo,
+                          check_status=profile.status_from_stderr)
+        state["runner"] = Runner(factory, profile, opts)
+    return state["runner"]
+
+
+def pytest_unconfigure(config) -> None:
+    state = config.stash.get(_STATE, None)
+    if state is not None and state["runner"] is not None:
+        state["runner"].factory.shutdown()
+
+
+class CaseFailed(Exception):
+    """The IUT did not do what the case's rule says."""
+
+
+class HarnessError(Exception):
+    """The harness could not run the case (never a verdict on the IUT)."""
+
+
+class CaseItem(pytest.Item):
+    def __init__(self, *, vector, **kw):
+        super().__init__(**kw)
+        self.vector = vector
+        self.result = None
+
+    def setup(self) -> None:
+        # the case runs here, so that a harness error is a pytest error, not a failure
+        from . import results as R
+
+        self.result = res = _runner(self.config).run_case(self.vector)
+        self.user_properties.append(("verdict", res.verdict))
+        self.user_properties.append(("reference", self.vector.reference))
+        if res.verdict == R.ERROR:
+            raise HarnessError(res.message)
+
+    def runtest(self) -> None:
+        from . import results as R
+        from .report import failure_text
+
+        res = self.result
+        if res.message or res.notes:
+            self.add_report_section("call", "ptpcert", "\n".join([f"{res.verdict}: {res.message}", *res.notes]))
+        if res.verdict == R.UNSUPPORTED:
+            pytest.skip(f"unsupported: {res.message}")
+        if res.verdict == R.XFAIL:
+            pytest.xfail(res.message)
+        if res.verdict == R.XPASS:
+            raise CaseFailed(res.message)
+        if res.verdict == R.NOT_RUN:
+            pytest.skip(res.message or "not run")
+        if res.verdict == R.FAIL:
+            raise CaseFailed(failure_text(res))
+
+    def repr_failure(self, excinfo):
+        if isinstance(excinfo.value, (CaseFailed, HarnessError)):
+            v = self.vector
+            return f"{v.id}: {v.title}\n  rule: {v.rule}\n  manual: {v.reference}\n{excinfo.value}"
+        return super().repr_failure(excinfo)
+
+    def reportinfo(self):
+        return self.path, None, f"{self.vector.id} ({self.vector.reference})"
