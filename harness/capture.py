@@ -1157,7 +1157,8 @@ def load(path: str | Path, fmt: str | None = None, case: str | None = None) -> C
     fmt = format_of(path, fmt)
     src = str(path)
     if case is not None and fmt not in ("json", "results"):
-        raise CaptureError(f"a case id selects a case of a results object; a {fmt} file has no cases", src)
+        raise CaptureError("a case id selects a case of a results object; a "
+                           f"{ {'hexlog': 'hex log'}.get(fmt, fmt)} file has no cases", src)
     try:
         raw = Path(path).read_bytes()
     except OSError as exc:
