@@ -600,3 +600,11 @@ def test_streaming_writers_write_as_the_recording_goes():
     pw.close(cap.end)
     assert C.read_hexlog(text.getvalue()) == cap
     assert binary.getvalue() == C.pcap_bytes(cap)
+
+
+def test_a_capture_written_as_results_is_drawn_by_the_report_command(tmp_path):
+    res, html = tmp_path / "k-results.json", tmp_path / "k.html"
+    C.save(known_capture(), res, "results")
+    assert cli_main(["report", str(res), "--html", str(html)]) == 0
+    svg = html.read_text()[html.read_text().find("<svg"):]
+    assert "STX" in svg and "DLE ETX" in svg and "BREAK" in svg    # the block, its end, the condition
