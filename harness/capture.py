@@ -93,7 +93,9 @@ Formats (``load``/``save`` choose by extension, or by name: ``json``, ``results`
    ended). Header lines are ``# key: value`` comments before the first record (keys
    ``start``, ``line`` as ``BAUD DATABITS PARITY STOPBITS`` with parity N, O, E, M or S and
    ``-`` for no baud rate, ``a``, ``b``, ``note``); other comments and blank lines are
-   ignored anywhere. Lines may come in any time order; the capture sorts them (stably).
+   ignored anywhere, and on a record line a word that starts with ``#`` begins a comment
+   (except in a MARK's text). Lines may come in any time order; the capture sorts them
+   (stably).
    Every field is carried. A wrong line raises :class:`CaptureError` naming the file, the
    line number and what is wrong.
 
@@ -856,6 +858,10 @@ def read_hexlog(text: str | IO[str], source: str = "") -> Capture:
                     names[n.lower()] = s_
                 names.update({"a": "a", "b": "b"})
             fields_ = s.split()
+            if "#" in s and len(fields_) > 2 and fields_[2].upper() != "MARK":
+                # after bytes or a condition, a word starting with '#' begins a comment
+                cut = next((i for i, f in enumerate(fields_) if f.startswith("#")), len(fields_))
+                fields_ = fields_[:cut]
             if len(fields_) < 2:
                 raise CaptureError(f"expected a time, a seat and bytes or a condition; got {s!r}")
             t = _parse_time(fields_[0], "time")
@@ -1049,7 +1055,7 @@ def read_pcap(data: bytes, source: str = "") -> Capture:
                            "ptpcert reads serial-line captures of that link type only", source)
     rec = struct.Struct(order + "IIII")
     pos, n = 24, 0
-    first_us: int | None = None
+    records: list[tuple[int, int, int, int, int, bytes]] = []
     chunks: list[Chunk] = []
     notes: list[str] = []
     end: float | None = None
@@ -1071,11 +1077,12 @@ def read_pcap(data: bytes, source: str = "") -> Capture:
         if incl < RTAC_HEADER.size:
             raise CaptureError(f"record {n} has {incl} bytes, fewer than the 12-byte RTAC serial header", source)
         us = sec * 1_000_000 + (round(frac / 1000) if nano else frac)
-        if first_us is None:
-            first_us = us
-        t = (us - first_us) / 1_000_000
         _, _, event, ctrl, footer = RTAC_HEADER.unpack_from(body)
-        payload = body[RTAC_HEADER.size:]
+        records.append((n, us, event, ctrl, footer, body[RTAC_HEADER.size:]))
+    # t = 0 is the earliest record (the first one, unless another recorder wrote them out of order)
+    first_us = min((r[1] for r in records), default=None)
+    for n, us, event, ctrl, footer, payload in records:
+        t = (us - first_us) / 1_000_000
         try:
             if n == 1 and event == EV_STATUS_CHANGE and ctrl == 0 and not payload:
                 continue     # the start record (ours, or a recorder's with nothing asserted)
@@ -1112,7 +1119,7 @@ def read_pcap(data: bytes, source: str = "") -> Capture:
         except CaptureError as exc:
             raise CaptureError(f"record {n}: {exc.message}", source) from None
     start = None if not first_us else EPOCH + _dt.timedelta(microseconds=first_us)
-    if end is not None and chunks and end < chunks[-1].t:
+    if end is not None and chunks and end < max(c.t for c in chunks):
         notes.append(f"CAPTURE_COMPLETE at {end:.6f} s comes before the last chunk; ignored")
         end = None
     return Capture(chunks, {"a": "a", "b": "b"}, None, start, end, notes)

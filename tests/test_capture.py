@@ -324,27 +324,25 @@ def test_the_hex_log_is_what_the_module_documents():
 
 
 def test_the_hex_log_reader_is_tolerant():
-    text = """
-    # a hand-written log; no version line
-    # a: tester
-    # b: CP341
-      # line: 9600 8E1
-    10ms   Tester  02          # comments may follow? no: this whole line is data
-    """
-    with pytest.raises(C.CaptureError, match=r"line 6: '#' is neither hex bytes nor a condition"):
-        C.read_hexlog(text)
-    text = ("# a: tester\n# b: CP341\n# line: 9600 8e1\n\n"
-            "10ms   Tester  02\n"
+    text = ("# a hand-written log; no version line\n# a: tester\n# b: CP341\n  # line: 9600 8e1\n\n"
+            "10ms   Tester  02     # STX, and a comment after it\n"
             "0.0111\tcp341\t10\n"
             "0.0125 a 3110 10 32 1003\n"
-            "0.5 b break 20ms\n0.6 A parity\n0.7 b modem cts dsr ring\n.8 - mark  hello   there\n1s - end\n")
+            "0.5 b break 20ms\n0.6 A parity\n0.7 b modem cts dsr ring\n.8 - mark  hello  # there\n1s - end\n")
     cap = C.read_hexlog(text)
     assert cap.seats == {"a": "tester", "b": "CP341"} and cap.line == LINE
     assert [(c.t, c.seat, c.data, c.condition) for c in cap.chunks][:3] == [
         (0.01, "a", b"\x02", None), (0.0111, "b", b"\x10", None), (0.0125, "a", bytes.fromhex("3110103210 03"), None)]
     assert cap.chunks[3].duration == 0.02 and cap.chunks[4].condition is C.Cond.PARITY and not cap.chunks[4].data
     assert cap.chunks[5].lines == {"CTS", "DSR", "RI"}
-    assert cap.marks == [C.Mark(0.8, "hello   there")] and cap.end == 1.0
+    assert cap.marks == [C.Mark(0.8, "hello  # there")] and cap.end == 1.0
+
+
+def test_pcap_records_out_of_time_order_are_sorted():
+    base = 1_700_000_000_000_000
+    cap = C.read_pcap(_foreign([(base + 500, 0x01, 0, 0, b"\x02"), (base, 0x02, 0, 0, b"\x15")]))
+    assert cap.start == C.EPOCH + dt.timedelta(microseconds=base)
+    assert [(c.t, c.seat, c.data) for c in cap.chunks] == [(0.0, "b", b"\x15"), (0.0005, "a", b"\x02")]
 
 
 def test_hex_log_lines_may_come_out_of_order():
