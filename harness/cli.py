@@ -100,6 +100,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     from . import cli_run
     cli_run.add_commands(sub)
+    from . import cli_capture
+    cli_capture.add_commands(sub)
     return ap
 
 
