@@ -33,12 +33,15 @@ class SimTransport(Transport):
     capabilities = frozenset({BREAK, CHAR_ERROR, RESTART, STATUS, "buffer_control"})
 
     def __init__(self, params: Params3964, *, app: str = "echo", buffer_free: bool = True,
-                 station_factory=None, url: str = "sim:", tester_char: float | None = None):
+                 station_factory=None, url: str = "sim:", tester_char: float | None = None,
+                 host_factory=None):
         self.url = url
         self.params = params
         self.app = app
         self.buffer_free = buffer_free
         self._factory = station_factory or (lambda p: Station3964(p, name="iut"))
+        # the application above the station (default: the 3964(R) Host with ``app``)
+        self._host_factory = host_factory or (lambda st: Host(st, self.app))
         self._tester_char = params.char_time if tester_char is None else tester_char
         self._now = 0.0
         self.events: list = []
@@ -46,7 +49,7 @@ class SimTransport(Transport):
     # -- life cycle ---------------------------------------------------------------
     def open(self) -> None:
         self.station: Station3964 = self._factory(self.params)
-        self.host = Host(self.station, self.app)
+        self.host = self._host_factory(self.station)
         self._arrivals: list[tuple[float, int, str, int]] = []
         self._seq = 0
         self._out: list[tuple[float, int]] = []   # IUT bytes, completion time
