@@ -68,7 +68,7 @@ WORD_CODES = frozenset(a.code for a in _WORD_AREAS)
 #: P_SND_RK's R_TYP (and P_RCV_RK's L_TYP) mnemonics -> data type (Tables 6-4, 6-6, 6-7,
 #: 6-10): the English letters C (counters), I (inputs), Q/O (outputs), F (flags) stand for
 #: the German wire letters Z, E, A, M.
-R_TYP = {
+R_TYP_AREAS = {
     "D": Area.DB, "X": Area.DX,
     "M": Area.M, "F": Area.M,
     "I": Area.E, "E": Area.E,
@@ -236,7 +236,7 @@ def command_header(op: str, area: Area | str, number: int, address: int, length:
 def psnd_header(SF: str, R_TYP: str, R_NO: int, R_OFFSET: int, LEN: int, *,
                 R_CF_BYT: int = 255, R_CF_BIT: int = 0, R_CPU_NO: int | None = 1) -> Header:
     """The header P_SND_RK sends for its parameters (§6.3.2, Tables 6-4 to 6-8): SF 'S'
-    (SEND) or 'F' (FETCH), R_TYP in any of the manual's mnemonics (:data:`R_TYP`),
+    (SEND) or 'F' (FETCH), R_TYP in any of the manual's mnemonics (:data:`R_TYP_AREAS`),
     R_CF_BYT 255 meaning "no coordination flag"."""
     op = {"S": "send", "F": "fetch"}.get(SF)
     if op is None:
@@ -244,10 +244,10 @@ def psnd_header(SF: str, R_TYP: str, R_NO: int, R_OFFSET: int, LEN: int, *,
     if R_TYP not in R_TYP_NAMES:
         raise ValueError(f"R_TYP {R_TYP!r}: one of {', '.join(sorted(R_TYP_NAMES))}")
     cf = None if R_CF_BYT == 255 else (R_CF_BYT, R_CF_BIT)
-    return command_header(op, R_TYP[R_TYP], R_NO, R_OFFSET, LEN, cf=cf, cpu=R_CPU_NO)
+    return command_header(op, R_TYP_AREAS[R_TYP], R_NO, R_OFFSET, LEN, cf=cf, cpu=R_CPU_NO)
 
 
-R_TYP_NAMES = frozenset(R_TYP)
+R_TYP_NAMES = frozenset(R_TYP_AREAS)
 
 
 # -- frames ---------------------------------------------------------------------------------

@@ -382,8 +382,8 @@ class Rk512Core:
             new = decide(frame) if decide is not None else (target or old)
         if self.trace is not None:
             self.trace.append((self.now, "active", old, inp, row.action, new))
-        if new is not old and not self._timer_set:
-            self._t_res_a = inf
+        # T_RES of this side starts with the command (acknowledged or handed over, AMB-17)
+        # and stops with the response or the end of the request (_end): no generic rule
         self.a_state = new
         if new is A.IDLE and self._requests and self.powered:
             self._active(AI.CPU_REQUEST)
@@ -441,9 +441,8 @@ class Rk512Core:
         return A.SEND_COMMAND
 
     def _a_command_sent(self, _f) -> None:
-        if not self._tres_at_handover:
+        if not self._tres_at_handover:  # "start T_RES" (the hand-over reading started it already)
             self._t_res_a = self.now + self._t_res
-        self._timer_set = True  # "start T_RES" (the hand-over reading started it already)
 
     def _a_response_received(self, _f) -> None:
         self._t_res_a = inf  # the response stops T_RES

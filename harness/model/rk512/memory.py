@@ -18,8 +18,13 @@ from .codec import Area
 from .params import Rk512Params
 
 
+_RAMP = bytes(range(256)) * 2
+
+
 def _pattern(base: int, n: int) -> bytearray:
-    return bytearray((base + i) & 0xFF for i in range(n))
+    """n bytes (base + i) & FFh: the pattern repeats every 256 bytes."""
+    period = _RAMP[base & 0xFF:(base & 0xFF) + 256]
+    return bytearray((period * (n // 256 + 1))[:n])
 
 
 class Memory:
