@@ -174,10 +174,11 @@ class Rk512Core:
         discarded (the one the link carries cannot be recalled)."""
         self._at(now)
         self._out.clear()
+        queued, self._requests = list(self._requests), deque()
         self._passive(PI.RESTART)
         self._active(AI.RESTART)
-        while self._requests:
-            self._fail_now(self._requests.popleft(), Code.ABORTED_BY_CP_RESTART)
+        for req in queued:
+            self._fail_now(req, Code.ABORTED_BY_CP_RESTART)
 
     def pop_events(self) -> list:
         out, self._events = self._events, []
