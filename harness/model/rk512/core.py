@@ -499,7 +499,8 @@ class Rk512Core:
     def _a_short_response(self, _f):
         if self.readings.amb10_short_response_ends_request:
             return self._end(self._row.code)
-        return None  # ignored: keep waiting, T_RES keeps running
+        self._status(self._row.code, "send")  # reported, and otherwise ignored: T_RES runs on
+        return None
 
     # ============================================================== passive side (Fig. 2-19)
     def _reply(self, frame: bytes, code: int, owner=None, final_for_owner: bool = False) -> None:
@@ -578,7 +579,8 @@ class Rk512Core:
         op.fetch = b3 == FETCH
         area = self._area_of.get(b4)
         if area is not None and not op.fetch:
-            area = Area.DX if b3 == SEND_DX else Area.DB
+            # the destination of a SEND: 'O' (or, read so, type 'X') a DX, 'A' a DB
+            area = Area.DX if b3 == SEND_DX or b4 == _DX else Area.DB
         op.area = area
         if n >= HEADER_LEN:
             length = (frame[6] << 8) | frame[7]

@@ -61,7 +61,7 @@ class Rk512Readings:
     amb10_short_command_reatel: int | None = 0x34
     # ... and a requester that receives a response of fewer than 4 bytes reports 16#0610
     # (AMB-19: the event covers responses too) and ends the request with it; False: it
-    # ignores the frame and waits on (T_RES decides).
+    # reports 16#0610 and otherwise ignores the frame, waiting on (T_RES decides).
     amb10_short_response_ends_request: bool = True
 
     # AMB-11: 16#0301 under two REATELs: the model never raises 0301 on the passive side
