@@ -159,8 +159,7 @@ class Rk512Core:
             self._fail_now(req, Code.NOT_ALLOWED_IN_MODE)
             return False
         self._requests.append(req)
-        if self.a_state is A.IDLE:
-            self._active(AI.CPU_REQUEST)
+        self._active(AI.CPU_REQUEST)  # taken at once when idle, else it waits its turn
         return True
 
     def wake_at(self, t: float, tag: object = None) -> None:
@@ -496,11 +495,14 @@ class Rk512Core:
     def _a_unsolicited_response(self, _f) -> None:
         self._status(self._row.code, "send")
 
-    def _a_short_response(self, _f):
+    def _a_short_response(self, _f) -> None:
+        pass  # AFTER_SHORT_RESPONSE decides (AMB-10)
+
+    def _d_after_short_response(self, _f) -> str:
         if self.readings.amb10_short_response_ends_request:
             return self._end(self._row.code)
         self._status(self._row.code, "send")  # reported, and otherwise ignored: T_RES runs on
-        return None
+        return self.a_state
 
     # ============================================================== passive side (Fig. 2-19)
     def _reply(self, frame: bytes, code: int, owner=None, final_for_owner: bool = False) -> None:

@@ -68,6 +68,7 @@ class Decision(StrEnum):
     CHECK_CONTINUATION = "CHECK_CONTINUATION"    # Fig. 2-19: bytes 3/4 as in the first frame, data count
     AFTER_RESPONSE = "AFTER_RESPONSE"            # Fig. 2-19: "all data transferred" / "continuation blocks"
     FIRST_WHILE_WAITING = "FIRST_WHILE_WAITING"  # Fig. 2-19 "1st command frame received" (AMB-18)
+    AFTER_SHORT_RESPONSE = "AFTER_SHORT_RESPONSE"  # AMB-10: a short response ends the request, or not
 
 
 #: A decision's possible outcomes, for drawing and tests.
@@ -78,6 +79,7 @@ DECISION_TARGETS: dict[Decision, tuple[str, ...]] = {
     Decision.CHECK_CONTINUATION: (PState.SEND_RESPONSE,),
     Decision.AFTER_RESPONSE: (PState.WAIT_CONTINUATION, PState.IDLE),
     Decision.FIRST_WHILE_WAITING: (PState.IDLE, PState.SEND_RESPONSE),
+    Decision.AFTER_SHORT_RESPONSE: (AState.IDLE, AState.WAIT_RESPONSE, AState.WAIT_CONTINUATION_RESPONSE),
 }
 
 IMPOSSIBLE = "impossible"
@@ -112,8 +114,8 @@ _TIMEOUT = Row("fail_request", AState.IDLE, "Fig. 2-18 'T > T_RES'; Table 8-1 16
                Code.RESPONSE_TIMEOUT)
 _BAD = Row("fail_request", AState.IDLE, "Table 8-1 16#0A02: response byte 1 not 00h/FFh",
            Code.RESPONSE_STRUCTURE)
-_SHORT = Row("short_response", SAME, "Table 8-1 16#0610: response frame shorter than 4 bytes (AMB-10/19)",
-             Code.FRAME_TOO_SHORT)
+_SHORT = Row("short_response", Decision.AFTER_SHORT_RESPONSE,
+             "Table 8-1 16#0610: response frame shorter than 4 bytes (AMB-10/19)", Code.FRAME_TOO_SHORT)
 _A_RESTART = Row("abort_for_restart", AState.IDLE, "Table 8-1 16#0501: request aborted by CP restart",
                  Code.ABORTED_BY_CP_RESTART)
 _A_SENDING = dict(
