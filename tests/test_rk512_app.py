@@ -249,3 +249,14 @@ def test_sim_transport_carries_an_rk512_station():
     assert [type(e).__name__ for e in tr.events if not isinstance(e, Ready)] == [
         "FrameReceived", "Served", "FrameSent"]
     assert tr.status_reports() == []
+
+
+def test_raw_frames_of_a_tester_station():
+    # request_send (Link.request) sends one frame as it is: the tester's seat; neither side
+    # of the sender takes note of it, the partner answers it as any command
+    link, a, b, ha, hb = hosts_pair("")
+    link.request(a, header("E", "E", 0, 0, 2))
+    assert link.run_until_quiet(link.now + 60)
+    assert [e.frame for e in of(link, a, FrameReceived)] == [response(0, data=b"\x40\x41")]
+    assert codes(link, a) == [Code.RESPONSE_OUT_OF_SEQUENCE]    # the answer is one to nobody
+    assert a.a_state == "A_IDLE" and results(link, a) == []

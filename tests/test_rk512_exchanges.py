@@ -385,3 +385,112 @@ def test_continuation_just_inside_t_res_is_taken():
     assert delivered(link, t)[1] == response(0, first=False)
     assert bytes(a.memory.db[10][128:200]) == bytes(range(72))
     assert codes(link, a) == []
+
+
+# -- Examples 5 and 6 as the model stations put them on the wire -----------------------------------
+def _blocks(link, name):
+    """The blocks ``name`` sent, each as the bytes between its STX (after the partner's DLE)
+    and the end of its BCC."""
+    out, cur, seq = [], None, wire(link)
+    for i, (src, x) in enumerate(seq):
+        if src != name:
+            continue
+        if cur is None:
+            if x == STX:
+                cur = bytearray()
+            continue
+        cur.append(x)
+        if len(cur) >= 3 and cur[-3] == DLE and cur[-2] == 0x03 and (len(cur) < 4 or cur[-4] != DLE or _even_dles(cur[:-2])):
+            out.append(bytes(cur))
+            cur = None
+    return out
+
+
+def _even_dles(b):
+    n = 0
+    for x in reversed(b):
+        if x != DLE:
+            break
+        n += 1
+    return n % 2 == 1
+
+
+EXAMPLE_5_WIRE = {  # REATEL -> (a command that earns it, the first response block of our notes)
+    0x0C: (header("E", "M", 1, 44, 1), "00 00 00 0C 10 03 1F"),
+    0x10: (header("A", "D", 10, 0, 1, b1=0x01) + b"\x00\x00", "00 00 00 10 10 10 03 13"),
+    0x14: (header("E", "D", 250, 0, 2), "00 00 00 14 10 03 07"),
+    0x16: (header("C", "D", 10, 0, 1) + b"\x00\x00", "00 00 00 16 10 03 05"),
+    0x34: (header("E", "D", 10, 0, 2) + b"\x00", "00 00 00 34 10 03 27"),
+    0x36: (continuation("E", "D"), "FF 00 00 36 10 03 DA"),
+}
+
+
+@pytest.mark.parametrize("reatel", sorted(EXAMPLE_5_WIRE))
+def test_example_5_error_responses_on_the_wire(reatel):
+    # the blocks the model's responder sends for its errors are the worked blocks; 0Ah and 12h
+    # have no responder event (AMB-10) and come only from S5 partners
+    cmd, block = EXAMPLE_5_WIRE[reatel]
+    link, a, t = with_tester()
+    link.request(t, cmd)
+    assert link.run_until_quiet(60)
+    assert _blocks(link, "a") == [hexb(block)]
+
+
+def test_example_5_locked_and_not_ready_on_the_wire():
+    link, a, t = with_tester()
+    a.memory.set_flag(3, 5)
+    link.request(t, header("A", "D", 10, 0, 1, b9=3, b10=0x15) + b"\x00\x00")
+    assert link.run_until_quiet(60)
+    a.memory.running = False
+    link.request(t, header("A", "D", 10, 0, 1) + b"\x00\x00")
+    assert link.run_until_quiet(link.now + 60)
+    assert _blocks(link, "a") == [hexb("00 00 00 32 10 03 21"), hexb("00 00 00 2A 10 03 39")]
+
+
+EXAMPLE_6_WIRE = [
+    ("send DB16:OFF=32:LEN=4:DATA=10203010", "00 00 41 44 10 10 10 10 00 02 FF 1F 10 10 20 30 10 10 10 03 E4"),
+    ("send DX5:DW0:LEN=2:DATA=ABCD", "00 00 4F 44 05 00 00 01 FF 1F AB CD 10 03 9A"),
+    ("send DB10:DW0:LEN=2:CF=3.5:CPU=2:DATA=DEAD", "00 00 41 44 0A 00 00 01 03 25 DE AD 10 03 48"),
+    ("send DB10:OFF=7:LEN=11:DATA=0102030405060708090A0B",
+     "00 00 41 44 0A 03 00 06 FF 1F 01 02 03 04 05 06 07 08 09 0A 0B 00 10 03 F9"),
+    ("fetch DB10:OFF=6:LEN=5", "00 00 45 44 0A 03 00 03 FF 1F 10 03 F8"),
+    ("fetch DX7:DW4:LEN=4", "00 00 45 58 07 04 00 02 FF 1F 10 03 EF"),
+    ("fetch M:20:LEN=6", "00 00 45 4D 00 14 00 06 FF 1F 10 03 E9"),
+    ("fetch Z:5:LEN=20", "00 00 45 5A 00 05 00 0A FF 1F 10 03 E3"),
+]
+
+
+@pytest.mark.parametrize("spec,block", EXAMPLE_6_WIRE)
+def test_example_6_on_the_wire(spec, block):
+    link, a, b = pair()
+    a.request(link.now, spec)
+    assert link.run_until_quiet(60)
+    assert _blocks(link, "a")[0] == hexb(block)
+    assert results(link, a)[0].ok
+
+
+# -- why the station sent what it sent (explain) -------------------------------------------------
+def test_explain_log():
+    from ptpcert.model.rk512 import Rk512Station
+    from ptpcert.model.link import Link
+    from rk512_helpers import params, settle
+    a = Rk512Station(params("high"), name="a", explain=True)
+    b = Rk512Station(params("low"), name="b", explain=True)
+    link = settle(Link(a, b))
+    a.request(link.now, "send DB10:DW0:LEN=200")
+    a.request(link.now, "fetch DB0:DW0:LEN=2")      # refused locally: no frame, no entry
+    assert link.run_until_quiet(60)
+    b.request(link.now, "fetch DB250:DW0:LEN=2")
+    assert link.run_until_quiet(link.now + 60)
+    why_a = [(describe(f), side, str(inp), code) for _, f, side, inp, ref, code, detail in a.frame_log]
+    assert why_a == [
+        ("SEND DB10 DW0 200 bytes (128 in this frame)", "A", "CPU_REQUEST", None),
+        ("continuation SEND 72 bytes", "A", "RESPONSE", None),
+        ("response REATEL 14h -> 16#0903", "P", "COMMAND", None),
+    ]
+    refs = [ref for *_, ref, code, detail in a.frame_log]
+    assert refs[0].startswith("Fig. 2-18") and refs[2].startswith("Fig. 2-19")
+    assert a.frame_log[2][6] == "REATEL 14h for 16#0606"
+    # FrameSent carries the row's reference; the link explains its own bytes
+    assert [e.reason for e in of(link, a, FrameSent)][0] == refs[0]
+    assert a.link.tx_log

@@ -106,6 +106,11 @@ class Rk512Core:
         if r.amb17_tres_start not in ("acknowledged", "handed_over"):
             raise ValueError(f"amb17_tres_start {r.amb17_tres_start!r}: acknowledged or handed_over")
         self._tres_at_handover = r.amb17_tres_start == "handed_over"
+        # readings used on every frame, looked up once
+        self._check_b2 = r.amb13_check_byte2
+        self._exact = r.amb16_exact_chunks
+        self._per_frame = r.n4_write_per_frame
+        self._set_flag = r.amb08_set_flag_after_transfer
         unknown = set(r.n2_check_order) - CHECKS
         if unknown:
             raise ValueError(f"n2_check_order: unknown checks {sorted(unknown)}")
@@ -376,7 +381,6 @@ class Rk512Core:
             raise ModelError(f"{self.name}: active input {inp} cannot occur in state {old}")
         self._row = row
         self._input = inp
-        self._timer_set = False
         new = fn(frame)
         if new is None:
             new = decide(frame) if decide is not None else (target or old)
@@ -713,9 +717,8 @@ class Rk512Core:
 
     def _d_check_continuation(self, frame: bytes) -> str:
         op = self.open
-        r = self.readings
         bad = None
-        if r.amb13_check_byte2 and frame[1] != 0:
+        if self._check_b2 and frame[1] != 0:
             bad = Code.CMD_BYTE1_INVALID
         elif frame[2] != op.b3:
             bad = Code.CMD_BYTE3_CHANGED
@@ -730,8 +733,8 @@ class Rk512Core:
             d = len(frame) - 4
             left = op.nbytes - op.done
             want = CHUNK if left > CHUNK else left
-            if d != want and (r.amb16_exact_chunks or not 0 < d <= want):
-                bad = r.n3_continuation_count_status
+            if d != want and (self._exact or not 0 < d <= want):
+                bad = self.readings.n3_continuation_count_status
         if bad is not None:
             self._reply(frame, bad, op)
             op.final = True
@@ -755,7 +758,7 @@ class Rk512Core:
             start = op.start + op.done
             op.done += len(data)
             final = op.done >= op.nbytes
-            if self.readings.n4_write_per_frame:
+            if self._per_frame:
                 op.buf[start:start + len(data)] = data
             else:
                 op.pending += data
@@ -767,7 +770,7 @@ class Rk512Core:
             reply = _OK_FIRST if first else _OK_CONT
         op.final = final
         flag = None
-        if final and op.flag is not None and self.readings.amb08_set_flag_after_transfer:
+        if final and op.flag is not None and self._set_flag:
             flag = op.flag
             mem.set_flag(flag[0], flag[1], self.readings.amb07_locked_value)
         if data is not None:
