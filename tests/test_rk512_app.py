@@ -15,10 +15,10 @@ from ptpcert.model.events import Status
 from ptpcert.model.link import Link
 from ptpcert.model.rk512 import (FrameLink, RequestResult, Rk512Core, Rk512Host, Rk512Params, Rk512Station,
                                  interface_lines, parse_cf_set)
-from ptpcert.model.rk512.events import FrameReceived, FrameSent, Ready, Served
+from ptpcert.model.rk512.events import FrameReceived, FrameSent, Ready
 from ptpcert.transport.sim import SimTransport
 
-from rk512_helpers import codes, of, params, results, settle
+from rk512_helpers import codes, of, params, results
 from rk512_rules import DLE, STX, body, header, response
 
 SCRIPT = """

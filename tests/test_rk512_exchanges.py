@@ -5,7 +5,7 @@ response monitoring time on both sides (§2.2.3, Figs. 2-13 to 2-19; §6.3.2).""
 import pytest
 
 from ptpcert.model.codes import Code
-from ptpcert.model.rk512 import RequestResult, Rk512Readings, Served, describe
+from ptpcert.model.rk512 import Rk512Readings, describe
 from ptpcert.model.rk512.codec import Area
 from ptpcert.model.rk512.events import FrameReceived, FrameSent
 

@@ -8,7 +8,6 @@ import pytest
 
 from ptpcert.model.codes import Code
 from ptpcert.model.rk512 import Rk512Core, Rk512Params, Rk512Readings
-from ptpcert.model.rk512.codec import Area, response_head
 from ptpcert.model.rk512.readings import RK512_READINGS
 from ptpcert.model.rk512.requests import parse_line, request_header
 

@@ -25,13 +25,12 @@ from ..station import ModelError
 from . import table as T
 from .codec import (AREA_BY_CODE, CHUNK, COMMAND_LETTERS, CONTINUATION, FETCH, FIRST,
                     HEADER_LEN, MAX_REQUEST_BYTES, NO_FLAG, SEND_DX, STATUS_REATEL, WORD_CODES,
-                    Area, Kind, classify, fetch_frames, response_head, send_frames,
-                    status_for_reatel)
+                    Area, fetch_frames, response_head, send_frames, status_for_reatel)
 from .events import FrameNotSent, FrameReceived, FrameSent, Ready, RequestResult, Served, Wakeup
 from .memory import Memory
 from .params import Rk512Params
 from .readings import CHECKS, RK512_READINGS, Rk512Readings
-from .requests import Request, Wait, local_check, parse_line, request_header, send_payload
+from .requests import Request, local_check, parse_line, request_header, send_payload
 
 A, P = T.AState, T.PState
 AI, PI = T.AInput, T.PInput
@@ -146,8 +145,6 @@ class Rk512Core:
         self._at(now)
         self.powered = True
         self._events.append(Ready(self.now))
-        if self._requests and self.a_state is A.IDLE:
-            self._active(AI.CPU_REQUEST)
 
     def request(self, now: float, req: Request | str) -> bool:
         """A SEND or FETCH of the active side (P_SND_RK with REQ). ``req`` may be a script
@@ -225,13 +222,13 @@ class Rk512Core:
         if now > self.now:
             self.now = now
 
-    def _run_timers(self, now: float, strict: bool, act_now: bool = False) -> None:
+    def _run_timers(self, now: float, strict: bool) -> None:
         """Fire the own timers due by ``now`` (``strict``: before it) in time order."""
         while True:
             t = self.own_deadline()
             if t == inf or (t >= now - _EPS if strict else t > now + _EPS):
                 return
-            self._fire(now if act_now else t)
+            self._fire(t)
 
     def _fire(self, t: float) -> None:
         self._at(t)
@@ -293,6 +290,8 @@ class Rk512Core:
             self.now = now
         elif now < self.now - _EPS:
             raise ModelError(f"{self.name}: time went backwards ({now} < {self.now})")
+        if self._inflight is None:
+            raise ModelError(f"{self.name}: a frame was acknowledged, but none was handed over")
         frame, origin, owner, reason = self._inflight
         self._inflight = None
         if self.frame_events:
@@ -308,6 +307,8 @@ class Rk512Core:
     def frame_failed(self, now: float, code: int) -> None:
         """The lower layer gave up on the frame in flight (its final STATUS ``code``)."""
         self._at(now)
+        if self._inflight is None:
+            raise ModelError(f"{self.name}: a frame was given up, but none was handed over")
         frame, origin, owner, reason = self._inflight
         self._inflight = None
         self._events.append(FrameNotSent(self.now, frame, code))
