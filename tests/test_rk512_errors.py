@@ -327,8 +327,22 @@ def test_fetch_continuation_response_of_wrong_length():
 
 def test_response_before_the_continuation_was_sent():
     # the tester (high priority) sends a second response while a's continuation waits: a
-    # defers its STX, receives it in A_SEND_CONTINUATION: 16#0A01, the request ends
+    # defers its STX and receives it in A_SEND_CONTINUATION: 16#0A01 (AMB-32: an extra
+    # response, reported); the continuation goes out and its own answer completes the request
     link, a, t = ask("send DB10:DW0:LEN=200", tester_prio="high")
+    link.request(t, response(0))
+    link.request(t, response(0))
+    run_until_delivered(link, t, 2)
+    assert delivered(link, t)[1][:4] == continuation("A", "D")
+    assert codes(link, a) == [Code.RESPONSE_OUT_OF_SEQUENCE] and results(link, a) == []
+    link.request(t, response(0, first=False))
+    assert link.run_until_quiet(link.now + 60)
+    assert [r.ok for r in results(link, a)] == [True]
+
+
+def test_response_before_the_continuation_ends_the_request_under_the_other_reading():
+    link, a, t = ask("send DB10:DW0:LEN=200", tester_prio="high",
+                     readings=Rk512Readings(amb32_early_response_ends_request=True))
     link.request(t, response(0))
     link.request(t, response(0))
     assert link.run_until_quiet(link.now + 60)

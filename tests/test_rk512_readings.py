@@ -249,6 +249,18 @@ def test_amb31_order():
         assert ("command" if nxt[2] else "response") == want
 
 
+@reading("amb32_early_response_ends_request")
+def test_amb32_early_response():
+    for ends, running in ((False, "send:DB1:DW0:LEN=2"), (True, "fetch:E:0:LEN=1")):
+        c = Core(R(amb32_early_response_ends_request=ends))
+        c.request(c.step(), "send DB1:DW0:LEN=2")
+        c.request(c.step(), "fetch E:0:LEN=1")            # waits its turn
+        c.frame_received(c.step(), response(0))          # before our command was acknowledged
+        assert c.a_state == "A_SEND_COMMAND" and c.job.label == running
+        assert c.codes(c.events()) == [Code.RESPONSE_OUT_OF_SEQUENCE]
+        assert len(c.out) == 1                            # the next frame waits for the link
+
+
 @reading("amb33_error_response_with_data")
 def test_amb33():
     for how, code in (("length", Code.RESPONSE_DATA_LENGTH), ("reatel", Code.PARTNER_DB_ACCESS)):

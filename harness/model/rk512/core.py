@@ -480,9 +480,12 @@ class Rk512Core:
         return A.SEND_CONTINUATION
 
     def _end(self, code: int | None) -> str:
-        """The request in progress ends: DONE (code None) or ERROR with ``code``."""
+        """The request in progress ends: DONE (code None) or ERROR with ``code``. Its frames
+        not yet handed to the link are dropped (the one with the link cannot be recalled)."""
         job, self.job = self.job, None
         self._t_res_a = inf
+        if self._out:
+            self._out = deque(x for x in self._out if x[2] is not job)
         if code is None:
             data = bytes(job.data[:job.store]) if job.fetch else None
             self._events.append(RequestResult(self.now, job.label, True, None, data))
@@ -499,6 +502,15 @@ class Rk512Core:
 
     def _a_unsolicited_response(self, _f) -> None:
         self._status(self._row.code, "send")
+
+    def _a_early_response(self, _f) -> None:
+        pass  # AFTER_EARLY_RESPONSE decides (AMB-32)
+
+    def _d_after_early_response(self, _f) -> str:
+        if self.readings.amb32_early_response_ends_request:
+            return self._end(self._row.code)
+        self._status(self._row.code, "send")  # an extra response: reported; ours is awaited
+        return self.a_state
 
     def _a_short_response(self, _f) -> None:
         pass  # AFTER_SHORT_RESPONSE decides (AMB-10)

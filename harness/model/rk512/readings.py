@@ -144,9 +144,13 @@ class Rk512Readings:
     # it owes, Fig. 2-17). True: a response that is ready goes before a command of its own.
     amb31_responses_first: bool = False
 
-    # AMB-32: "response frame received before continuation frame sent" (16#0A01) is a
-    # response that arrives while the requester's next command has not been acknowledged
-    # yet; the request ends with it. No alternative is implemented, no field.
+    # AMB-32: "response frame received before continuation frame sent" (16#0A01) is an
+    # extra response that arrives while the requester's (continuation) command has not been
+    # acknowledged yet. It is reported (not final) and the request goes on: its command is
+    # with the link already and goes out, and its own answer is awaited. Ending the request
+    # instead (True) leaves that command on the line unanswered-for, and the next request's
+    # command would follow it before its answer (depth 1, §2.2.3 "Quasi-full-duplex").
+    amb32_early_response_ends_request: bool = False
 
     # AMB-33: an error response (REATEL not 00h) that carries data. "length": it is a
     # response of the wrong length (SEND: 16#0A04, FETCH: 16#0A03); "reatel": the REATEL is

@@ -69,6 +69,7 @@ class Decision(StrEnum):
     AFTER_RESPONSE = "AFTER_RESPONSE"            # Fig. 2-19: "all data transferred" / "continuation blocks"
     FIRST_WHILE_WAITING = "FIRST_WHILE_WAITING"  # Fig. 2-19 "1st command frame received" (AMB-18)
     AFTER_SHORT_RESPONSE = "AFTER_SHORT_RESPONSE"  # AMB-10: a short response ends the request, or not
+    AFTER_EARLY_RESPONSE = "AFTER_EARLY_RESPONSE"  # AMB-32: a response before our command was sent
 
 
 #: A decision's possible outcomes, for drawing and tests.
@@ -80,6 +81,7 @@ DECISION_TARGETS: dict[Decision, tuple[str, ...]] = {
     Decision.AFTER_RESPONSE: (PState.WAIT_CONTINUATION, PState.IDLE),
     Decision.FIRST_WHILE_WAITING: (PState.IDLE, PState.SEND_RESPONSE),
     Decision.AFTER_SHORT_RESPONSE: (AState.IDLE, AState.WAIT_RESPONSE, AState.WAIT_CONTINUATION_RESPONSE),
+    Decision.AFTER_EARLY_RESPONSE: (AState.IDLE, AState.SEND_COMMAND, AState.SEND_CONTINUATION),
 }
 
 IMPOSSIBLE = "impossible"
@@ -106,7 +108,8 @@ def _rows(inputs, default: Row | None = None, **by_input: Row) -> dict[str, Row]
 _QUEUE = Row("queue_request", SAME, "§6.3.2: one P_SND_RK request at a time; the next waits")
 _UNSOLICITED = Row("unsolicited_response", SAME, "Table 8-1 16#0A01: response without request",
                    Code.RESPONSE_OUT_OF_SEQUENCE)
-_EARLY = Row("fail_request", AState.IDLE, "Table 8-1 16#0A01: response before the command was sent",
+_EARLY = Row("early_response", Decision.AFTER_EARLY_RESPONSE,
+             "Table 8-1 16#0A01: response received before the (continuation) frame was sent (AMB-32)",
              Code.RESPONSE_OUT_OF_SEQUENCE)
 _NOT_SENT = Row("fail_request", AState.IDLE, "Table 8-1 16#051A: error sending the command frame",
                 Code.COMMAND_NOT_SENT)
