@@ -77,3 +77,37 @@ def test_random_partner(seed):
     # data moved only for commands answered with REATEL 00 (sent or given up by the link)
     assert len(of(link, a, Served)) <= sum(1 for f in answers if f[3] == 0)
     assert len(delivered(link, t)) == len(of(link, a, FrameSent))
+
+
+# -- two model stations, requests on both sides, a clean or a noisy line ----------------------------
+from ptpcert.model.link import CORRUPT, DELIVER, DROP, DUPLICATE  # noqa: E402
+
+from rk512_helpers import codes, pair  # noqa: E402
+
+BOTH = ["send DB20:DW0:LEN=300", "fetch E:0:LEN=6", "fetch T:0:LEN=140", "send DX3:DW1:LEN=3",
+        "send DB5:DW0:LEN=1", "fetch DB9:DW100:LEN=130", "send DB0:DW0:LEN=2", "fetch Z:0:LEN=1024"]
+
+
+@pytest.mark.parametrize("seed", range(30))
+def test_two_stations_random_requests(seed):
+    rnd = random.Random(seed)
+    p_err = [0, 0.002, 0.01][seed % 3]
+    link, a, b = pair(baud=rnd.choice([None, 9600]), response_time_ms=3000, db_bytes=1024)
+    link.hook = lambda w: rnd.choice([DROP, CORRUPT, DUPLICATE]) if rnd.random() < p_err else DELIVER
+    asked = {"a": 0, "b": 0}
+    for _ in range(8):
+        st = rnd.choice([a, b])
+        st.request(link.now, rnd.choice(BOTH))
+        asked[st.name] += 1
+        link.run_until(link.now + rnd.choice([0.0, 0.01, 0.1, 0.5]))
+    assert link.run_until_quiet(link.now + 2000)
+    assert a.idle and b.idle
+    for st in (a, b):
+        link.events.extend((st.name, e) for e in st.pop_events())
+        rs = of(link, st, RequestResult)
+        assert len(rs) == asked[st.name]                 # every request ends, once
+        if p_err == 0:
+            # a clean line: only the requests the rules refuse fail (DB 0 locally; 1024 bytes of
+            # counters beyond the 512 of the area), and no sequence error ever shows
+            assert all(r.ok or r.code in (0x0514, 0x090C) for r in rs)
+            assert not set(codes(link, st)) & {0x060E, 0x0A01, 0x0A05, 0x0612, 0x051A}
