@@ -44,6 +44,9 @@ class Link:
     record_wire: bool = True
     #: stations whose application sends back every block they receive (the echo convention)
     echo: set[str] = field(default_factory=set)
+    #: the application of a station by name (an object with ``drain(now)``, e.g. an RK 512
+    #: host); a station not named here gets a 3964(R) Host (echo or none)
+    hosts: dict[str, object] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.a.name == self.b.name:
@@ -51,7 +54,8 @@ class Link:
         self._flight: list[tuple[float, int, str, str, int]] = []  # (arrive, seq, dest, kind, value)
         self._seq = 0
         self._peer = {self.a.name: self.b, self.b.name: self.a}
-        self._hosts = {st.name: Host(st, "echo" if st.name in self.echo else "none") for st in (self.a, self.b)}
+        self._hosts = {st.name: self.hosts.get(st.name) or Host(st, "echo" if st.name in self.echo else "none")
+                       for st in (self.a, self.b)}
 
     # -- control -------------------------------------------------------------------
     def power_on(self, at: float | None = None, *, b_at: float | None = None) -> None:
