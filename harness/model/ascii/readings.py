@@ -94,6 +94,15 @@ class AsciiReadings:
     # many characters more.
     q15_chars_after_xoff: int = 0
 
+    # d_hold: while the driver holds its partner (XOFF sent, RTS OFF), the CDT of an intact
+    # frame coming in is suspended, so the pause the driver asked for does not cut off the
+    # frame its XOFF interrupted; the CDT starts again once the XON is out (RTS ON). §2.2.4
+    # gives handshaking the purpose that no data is lost. The other reading (False) lets the
+    # CDT run: the interrupted frame is then discarded with 16#0806 (end-character and
+    # fixed-length criteria) or ends at the pause (CDT criterion). A frame already spoiled
+    # (no room, character error) is received to its end as usual.
+    d_cdt_suspended_while_holding: bool = True
+
     # Q16: received XON/XOFF codes are flow control, never data: they are not stored, ...
     # (no field: fixed, §2.2.4 "the user data must not contain XON or XOFF") ...
     # ... they do not restart the receiver's CDT (False) ...

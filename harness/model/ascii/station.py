@@ -624,7 +624,15 @@ class AsciiStation:
         self._trailing = self.now - self._last_complete_at <= self._cdt_window + _EPS
 
     def _restart_cdt(self) -> None:
+        if self._cdt_suspended():
+            self._stop(Timer.T_CDT)
+            return
         self._start(Timer.T_CDT, self.now + self._cdt_window)
+
+    def _cdt_suspended(self) -> bool:
+        """Reading d_hold: no CDT for an intact frame while the partner is held."""
+        return (self.fc_state is FcState.HELD and self._spoil is None
+                and self.readings.d_cdt_suspended_while_holding)
 
     def _spoil_with(self, code: int, reason: str) -> None:
         if self._spoil is None:
@@ -699,13 +707,13 @@ class AsciiStation:
         if self._spoil is not None:
             self._report_spoiled(cdt=False)
             return
-        self._store_frame(bytes(self._cur))
-        self._cur = bytearray()
+        frame, self._cur = bytes(self._cur), bytearray()
+        self._store_frame(frame)
 
     def _rx_frame_complete(self, _v: int) -> None:
         """CDT criterion: the CDT expired after the last character, the frame is complete."""
-        self._store_frame(bytes(self._cur))
-        self._cur = bytearray()
+        frame, self._cur = bytes(self._cur), bytearray()
+        self._store_frame(frame)
 
     def _rx_fragment_timeout(self, _v: int) -> None:
         """End-character and fixed-length criteria: the CDT expired inside a frame."""
@@ -831,24 +839,33 @@ class AsciiStation:
         pass
 
     def _announce(self, ready: bool) -> None:
+        heard = self.now
         if self._xonxoff:
-            self._send_control(self.params.xon if ready else self.params.xoff)
+            heard = self._send_control(self.params.xon if ready else self.params.xoff)
         else:
             self._set_signal("rts", 1 if ready else 0)
+        if self.readings.d_cdt_suspended_while_holding and self.rx_state is RxState.RECEIVE \
+                and self._spoil is None:
+            if ready:   # the CDT of the interrupted frame runs again from the XON
+                self._start(Timer.T_CDT, heard + self._cdt_window)
+            else:
+                self._stop(Timer.T_CDT)
 
     # ================================================================== transmitter
-    def _send_control(self, b: int) -> None:
-        """XON/XOFF go out at the next character boundary, ahead of any data waiting."""
+    def _send_control(self, b: int) -> float:
+        """XON/XOFF go out at the next character boundary, ahead of any data waiting.
+        Returns when the character is out."""
         removed = self._line.cut(self.now)
         for data, kind, why in removed:
             if kind == "control":
                 self._line.schedule(self.now, data, kind, why)
-        self._line.schedule(self.now, bytes((b,)), "control", self._why)
+        _, out = self._line.schedule(self.now, bytes((b,)), "control", self._why)
         for data, kind, why in removed:
             if kind == "data":
                 _, end = self._line.schedule(self.now, data, kind, why)
                 if Timer.TX_DONE in self._timers:
                     self._timers[Timer.TX_DONE] = end
+        return out
 
     def _set_signal(self, name: str, value: int) -> None:
         if getattr(self, name) == value:
