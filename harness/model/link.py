@@ -191,14 +191,15 @@ class Link:
                         self._push(at + char, dest, kind, byte)
                         if fate == DUPLICATE:
                             self._push(at + 2 * char, dest, kind, byte)
+            # every instant: an application may act without a new event (a delayed read)
+            self.events.extend((st.name, e) for e in self._hosts[st.name].drain(t))
+            # signals after the application: what it did may have switched one
             if hasattr(st, "pop_signals"):
                 peer = self._peer[st.name]
                 for at, out, value in st.pop_signals(t):
                     self.signals.append((at, st.name, out, value))
                     if out in NULL_MODEM and hasattr(peer, "set_line"):
                         self._push(at, peer.name, NULL_MODEM[out], value)
-            # every instant: an application may act without a new event (a delayed read)
-            self.events.extend((st.name, e) for e in self._hosts[st.name].drain(t))
 
     # -- views -----------------------------------------------------------------------
     def transcript(self) -> list[tuple[str, bytes]]:
