@@ -437,7 +437,12 @@ class AsciiStation:
         for start, data, kind, why in self._line.pop(now):
             out.append((start, data))
             if log is not None:
-                log.append(TxRecord(start, start + len(data) * self._char, data, kind, why))
+                end = start + len(data) * self._char
+                last = log[-1] if log else None
+                if last is not None and last.why is why and abs(last.end - start) < _EPS:
+                    log[-1] = TxRecord(last.start, end, last.data + data, kind, why)
+                else:
+                    log.append(TxRecord(start, end, data, kind, why))
         return out
 
     def pop_signals(self, now: float | None = None) -> list[tuple[float, str, int]]:
