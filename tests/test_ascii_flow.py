@@ -95,6 +95,31 @@ def test_a_frame_interrupted_by_xoff_survives_the_hold(suspended):
         assert b.stored() == [H("41 03"), H("44 03")] and b.codes() == [Code.CDT_EXCEEDED]
 
 
+def test_xoff_with_the_first_byte_that_reaches_974():
+    b = Bench(XX, app="no_read")
+    b.send(bytes(973)); b.idle()
+    assert control_chars(b, 0.0) == []
+    t = b.send(b"\x01")
+    assert control_chars(b, 0.0) == [(pytest.approx(t), XOFF)]
+
+
+def test_break_aborts_the_send_job_in_the_other_reading():
+    b = Bench(AsciiParams(), readings=AsciiReadings(d_break_aborts_send=True))
+    data = bytes(range(0x20, 0x60))
+    b.request(data)
+    b.brk(at=0.01); b.idle(0.2)
+    assert b.codes() == [Code.LINE_BREAK, Code.LINE_BREAK]
+    assert b.failed() == [(data, Code.LINE_BREAK)] and len(b.wire()) < len(data)
+
+
+def test_break_does_not_touch_a_send_job():
+    b = Bench(AsciiParams())
+    data = bytes(range(0x20, 0x60))
+    b.request(data)
+    b.brk(at=0.01); b.idle(0.2)
+    assert b.codes() == [Code.LINE_BREAK] and b.wire() == data and b.done() == [data]
+
+
 def test_partner_that_ignores_xoff_overflows_the_buffer():
     # 130-byte frames: seven fill 910 bytes; the 8th reaches 974 with its 64th byte (XOFF),
     # the partner goes on, and its 115th byte finds no room (910 + 114 = 1024): the frame is

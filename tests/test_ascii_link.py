@@ -158,3 +158,39 @@ def test_break_on_the_line_is_reported():
     link.inject_break(b, at=0.02)
     link.run_until(0.1)
     assert codes(link, b) == [Code.LINE_BREAK]
+
+
+def test_the_one_driver_loop_runs_an_ascii_station():
+    # ptpcert.driver.drive_station, on a virtual line: the echo comes back paced at the
+    # character time, after the frame's end character
+    from ptpcert.driver import Endpoint, drive_station
+
+    p = AsciiParams(end_criterion="end_chars", end_chars=(0x03,))
+
+    class VirtualLine(Endpoint):
+        def __init__(self):
+            self.t = 0.0
+            self.inputs = [(0.010 + i * p.char_time, "byte", b) for i, b in enumerate(b"AB\x03")]
+            self.written = []
+
+        def now(self):
+            return self.t
+
+        def poll(self, deadline):
+            nxt = self.inputs[0][0] if self.inputs else float("inf")
+            self.t = max(self.t, min(deadline, nxt))
+            out = [x for x in self.inputs if x[0] <= self.t]
+            self.inputs = [x for x in self.inputs if x[0] > self.t]
+            return out
+
+        def write(self, data):
+            self.written.append((self.t, data))
+            return self.t
+
+    st = AsciiStation(p, name="iut")
+    line = VirtualLine()
+    st.power_on(0.0)
+    drive_station(AsciiHost(st, "echo"), line, until=0.5)
+    assert b"".join(d for _, d in line.written) == b"AB\x03"
+    end_of_frame = 0.010 + 2 * p.char_time
+    assert [t for t, _ in line.written] == pytest.approx([end_of_frame + (i + 1) * p.char_time for i in range(3)])

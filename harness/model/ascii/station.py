@@ -329,6 +329,8 @@ class AsciiStation:
         self._at(now, strict=True)
         if self.mode == "RUN":
             self._rx(RxInput.BREAK)
+            # the other reading of d_break: the BREAK ends the running send job as well
+            # (outside the sender's table, which has no BREAK input)
             if self.readings.d_break_aborts_send and self.job is not None:
                 self._abort(Code.LINE_BREAK)
                 self.tx_state = TxState.IDLE
@@ -505,8 +507,9 @@ class AsciiStation:
 
     @property
     def buffer_fill(self) -> int:
-        """Bytes in the receive buffer: the stored frames and the frame coming in."""
-        coming = len(self._cur) if self.rx_state is RxState.RECEIVE else 0
+        """Bytes in the receive buffer: the stored frames and the intact frame coming in
+        (a spoiled frame's characters are thrown away as they come)."""
+        coming = len(self._cur) if self._spoil is None else 0
         return self._stored_bytes + coming
 
     @property
@@ -599,7 +602,7 @@ class AsciiStation:
         if self._xonxoff and (b == p.xon or b == p.xoff):
             # flow control, never data (§2.2.4); it goes to the sender
             if self.readings.q16_flow_char_restarts_cdt and self.rx_state in (RxState.RECEIVE, RxState.DISCARD):
-                self._start(Timer.T_CDT, self.now + self._cdt_window)
+                self._restart_cdt()
             self._tx(TxInput.STOP if b == p.xoff else TxInput.GO)
             return
         self._rx(self._classify(b), b)
