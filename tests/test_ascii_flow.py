@@ -6,7 +6,7 @@ import pytest
 from ascii_bench import IDLE, Bench
 from ptpcert.model.ascii import AsciiParams, AsciiReadings
 from ptpcert.model.ascii import events as aev
-from ptpcert.model.ascii.table import TxState
+from ptpcert.model.ascii.table import RxState, TxState
 from ptpcert.model.codec import parse_hex
 from ptpcert.model.codes import Code
 from ptpcert.model.events import SendDone
@@ -140,12 +140,37 @@ def test_partner_that_ignores_xoff_overflows_the_buffer():
     assert control_chars(b, 0.0) == expected
 
 
+@pytest.mark.parametrize("suspended", [True, False])
+def test_100_byte_frames_from_a_partner_that_ignores_xoff(suspended):
+    # 100-byte frames with idle between them, the CPU not reading. XOFF comes with the 74th
+    # byte of the 10th frame. d_hold: the idle after the 10th frame does not end it while
+    # the partner is held, so the 11th frame joins it and overflows the buffer at its 25th
+    # byte (900 + 124 = 1024): the joined frame is discarded with 16#080A and frames 1..9
+    # stay intact. Other reading: the 10th frame is stored, the 11th overflows.
+    r = AsciiReadings(d_cdt_suspended_while_holding=suspended)
+    b = Bench(XX, app="no_read", readings=r)
+    for i in range(11):
+        b.send(bytes([i]) * 100)
+        b.idle()
+    kept = 9 if suspended else 10
+    assert b.st.stored_frames == tuple(bytes([i]) * 100 for i in range(kept))
+    assert b.codes() == [Code.NO_RECEIVE_BUFFER]
+    lost = bytes([9]) * 100 + bytes([10]) * 100 if suspended else bytes([10]) * 100
+    assert b.discarded() == [(lost, aev.NO_ROOM, Code.NO_RECEIVE_BUFFER)]
+
+
 def test_overflow_without_xon_after_discard_reading():
     b = Bench(XX, app="no_read", readings=AsciiReadings(q15_xon_after_discard=False))
     for i in range(8):
         b.send(bytes([i]) * 130)
         b.idle()
     assert [x for _, x in control_chars(b, 0.0)] == [XOFF]
+    assert b.st.rx_state is RxState.WAIT_CHAR and b.codes() == [Code.NO_RECEIVE_BUFFER]
+    t = b.t
+    b.read(); b.idle()                     # the read lifts the hold
+    assert control_chars(b, t - 1e-6) == [(pytest.approx(t), XON)]
+    b.send(b"\x41"); b.idle()
+    assert b.stored()[-1] == b"\x41"
 
 
 def test_no_xon_after_a_read_without_xoff():

@@ -235,6 +235,16 @@ class TestTwoEndCharacters:
         b.send(H("41 0D 0A 42")); b.send(H("43 0D 0A"), at=b.line_free + GAP); b.idle()
         assert b.frames() == [H("41 0D 0A"), H("42 43 0D 0A")]
 
+    @pytest.mark.parametrize("delta, merged", [(-0.0003, True), (0.0003, False)])
+    def test_pair_split_by_a_pause_at_both_edges_of_the_cdt(self, delta, merged):
+        b = bench(EC2)
+        b.send(H("41 0D")); b.send(H("0A"), at=b.line_free + EC2.cdt + delta); b.idle()
+        if merged:
+            assert b.frames() == [H("41 0D 0A")] and b.codes() == []
+        else:
+            # 41 0D is a fragment; the lone 0A after the pause is one too
+            assert b.frames() == [] and b.codes() == [E806, E806]
+
     def test_an_error_between_the_end_characters_breaks_the_pair(self):
         b = bench(EC2)
         b.send(H("41 0D")); b.send_bad(0x0D); b.send(H("0A 42")); end = b.send(H("0D 0A")); b.idle()

@@ -551,7 +551,9 @@ class AsciiStation:
         row = table[state][inp]
         if row.action == T.IMPOSSIBLE:
             raise ModelError(f"{self.name}: {machine} input {inp} cannot occur in state {state}")
-        outer, self._override = self._why, None
+        # a dispatch may run inside another (a stored character fills the buffer: XOFF);
+        # the outer one's explanation and override are kept apart from the inner one's
+        outer, outer_override, self._override = self._why, self._override, None
         self._why = why = Why(machine, str(state), str(inp), row.action, row.ref)
         getattr(self, f"_{machine}_{row.action}")(value)
         target = self._override or row.target
@@ -561,7 +563,7 @@ class AsciiStation:
         new = state if target == T.SAME else target
         if self.trace is not None:
             self.trace.append((self.now, machine, state, inp, row.action, new))
-        self._why = outer
+        self._why, self._override = outer, outer_override
         return new
 
     def _rx(self, inp: RxInput, value: int = 0) -> None:
