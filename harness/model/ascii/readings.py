@@ -4,8 +4,9 @@ The manual leaves many details of the ASCII driver open (the figures of §2.2.4 
 as fragments, error codes for malformed frames are not named, thresholds are given in
 words). Every place where the model had to choose between defensible readings, and the
 choice changes what is on the line or which STATUS event is raised, is one field here. The
-fields are numbered after our list of open points (Q1..Q28); points that are not on that
-list but still needed a choice start with ``d_`` (a derived detail). :data:`READINGS`
+fields carry the number Q1..Q28 of the open point as we count them, and each comment says
+what the point is and which manual text leaves it open; details that needed a choice but are
+not among those points start with ``d_``. :data:`READINGS`
 holds the readings the model uses by default; a station built with other readings shows
 what an implementation that took the other reading does, so that cases and the fuzzer can
 accept it instead of failing it.
@@ -117,7 +118,9 @@ class AsciiReadings:
     q17_overflow_code: int = Code.NO_RECEIVE_BUFFER
 
     # Q18: a complete frame that finds the buffer full (buffer_frames frames stored,
-    # prevent overwrite = yes) is discarded with this code when it ends.
+    # prevent overwrite = yes) is discarded with this code when it ends. With prevent
+    # overwrite = no (one frame) the frame coming in may use the room of the unread frame
+    # it is going to replace, and the replaced frame goes without a STATUS (no field).
     q18_full_buffer_code: int = Code.NO_RECEIVE_BUFFER
 
     # Q19: automatic use of the V.24 signals (§2.2.4, Fig. 2-24):
@@ -133,7 +136,10 @@ class AsciiReadings:
     q19_done_at_rts_off: bool = True
 
     # Q20: no arbitration in the half-duplex automatic V.24 mode: the model receives while
-    # it sends, like the user program that must keep to one direction (no field).
+    # it sends; keeping to one direction is the user program's business (no field).
+    # Not modelled: flow control in CPU STOP (Q21), EN_R/R of the FBs (Q24), the RS 485
+    # switch-over time, the CPU->CP transfer time (a job's frame starts when it is handed
+    # over, Table A-8 is not modelled).
 
     # d_break: a BREAK on the receive line reports 16#080D at once and discards the frame
     # being received; it does not touch a running send job (full duplex).
