@@ -3,7 +3,7 @@ and the automatic use of the V.24 signals (§2.2.4; Fig. 2-24), in virtual time.
 
 import pytest
 
-from ascii_bench import IDLE, Bench
+from ascii_bench import Bench
 from ptpcert.model.ascii import AsciiParams, AsciiReadings
 from ptpcert.model.ascii import events as aev
 from ptpcert.model.ascii.table import RxState, TxState

@@ -3,6 +3,7 @@ end criterion, with and without XON/XOFF, RTS/CTS over a null-modem cable."""
 
 import pytest
 
+from ptpcert.driver import Endpoint, drive_station
 from ptpcert.model.ascii import AsciiHost, AsciiParams, AsciiStation
 from ptpcert.model.ascii.events import FrameDiscarded
 from ptpcert.model.codes import Code
@@ -163,8 +164,6 @@ def test_break_on_the_line_is_reported():
 def test_the_one_driver_loop_runs_an_ascii_station():
     # ptpcert.driver.drive_station, on a virtual line: the echo comes back paced at the
     # character time, after the frame's end character
-    from ptpcert.driver import Endpoint, drive_station
-
     p = AsciiParams(end_criterion="end_chars", end_chars=(0x03,))
 
     class VirtualLine(Endpoint):

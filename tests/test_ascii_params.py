@@ -4,7 +4,6 @@ STOP after a bad parameter set (16#020F)."""
 
 import pytest
 
-from ascii_bench import Bench
 from ptpcert.model.ascii import AsciiParams, AsciiStation
 from ptpcert.model.ascii.params import MIN_CDT_MS, default_cdt_ms
 from ptpcert.model.codes import Code

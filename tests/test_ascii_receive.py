@@ -7,7 +7,7 @@ expected frames are written from the manual's rules, never taken from the model.
 
 import pytest
 
-from ascii_bench import GAP, IDLE, Bench
+from ascii_bench import GAP, Bench
 from ptpcert.model.ascii import AsciiParams, AsciiReadings
 from ptpcert.model.ascii import events as aev
 from ptpcert.model.codec import parse_hex

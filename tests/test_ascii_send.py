@@ -3,10 +3,11 @@ in virtual time. The expected line is written from the manual's rules."""
 
 import pytest
 
-from ascii_bench import GAP, IDLE, Bench
+from ascii_bench import Bench
 from ptpcert.model.ascii import AsciiParams, AsciiReadings, send_bytes
 from ptpcert.model.codec import parse_hex
 from ptpcert.model.codes import Code
+from ptpcert.model.events import Delivered, SendDone
 
 H = parse_hex
 EC = AsciiParams(end_criterion="end_chars", end_chars=(0x03,))
@@ -64,7 +65,7 @@ def test_a_frame_goes_out_back_to_back_and_done_follows_its_last_stop_bit():
     starts = [s for s, _ in b.out]
     assert b.wire() == bytes(range(20))
     assert starts == pytest.approx([0.01 + i * p.char_time for i in range(20)])
-    (done,) = b.of(__import__("ptpcert.model.events", fromlist=["SendDone"]).SendDone)
+    (done,) = b.of(SendDone)
     assert done.time == pytest.approx(0.01 + 20 * p.char_time)
 
 
@@ -219,14 +220,12 @@ def test_echo_reads_the_next_frame_only_when_its_job_is_done():
     assert second == [H("31 32 33 03"), H("41 03")]
     # the first frame was complete two characters before t, its echo (four characters)
     # was done two characters after t: then the second frame was read
-    from ptpcert.model.events import Delivered
     assert b.of(Delivered)[1].time == pytest.approx(t - 2 * EC.char_time + 4 * EC.char_time)
 
 
 def test_slow_reader_reads_a_frame_only_after_its_delay():
     b = Bench(EC, app="echo", read_delay=0.5)
     t = b.send(H("41 03")); b.idle(1.0)
-    from ptpcert.model.events import Delivered
     (d,) = b.of(Delivered)
     assert d.time == pytest.approx(t + 0.5)
     assert b.out[0][0] == pytest.approx(t + 0.5)

@@ -269,7 +269,7 @@ class AsciiStation:
         # receive buffer (Table 2-10)
         self._stored: deque[tuple[float, bytes]] = deque()
         self._stored_bytes = 0
-        self._held_by_discard = False
+        self._fc_source = ""             # what freed room: "read" or "discard" (Q15)
         self._override: str | None = None
         self._why: Why = _POWER_ON
         self.trace: list[tuple] | None = [] if trace else None
