@@ -4,6 +4,12 @@ A byte a station starts transmitting at time ``s`` arrives complete at the other
 at ``s + character time``. A hook may drop, corrupt (deliver as a character with a
 parity error) or duplicate any byte in flight, and line breaks can be injected. Pure: no
 clock, no I/O; used by tests, the fuzzer, benchmarks and the ``sim:`` transport.
+
+Any station with the driver interface can sit at either end (a 3964(R) station, an ASCII
+driver). ``host_factory(station, app)`` builds the application above each one (default: the
+3964(R) :class:`~ptpcert.model.app.Host`). A station that drives modem outputs
+(``pop_signals``) is wired to the other as a null-modem cable: its RTS is the other's CTS,
+its DTR the other's DSR.
 """
 
 from __future__ import annotations
@@ -11,11 +17,13 @@ from __future__ import annotations
 import heapq
 from dataclasses import dataclass, field
 from math import inf
-from typing import Callable
+from typing import Any, Callable
 
 from .app import Host
 from .events import Event
-from .station import Station3964
+
+#: what a null-modem cable connects: an output of one station to an input of the other
+NULL_MODEM = {"rts": "cts", "dtr": "dsr"}
 
 DELIVER, DROP, CORRUPT, DUPLICATE = "deliver", "drop", "corrupt", "duplicate"
 
@@ -31,10 +39,14 @@ class WireByte:
     fate: str = DELIVER
 
 
+def _default_host(station: Any, app: str) -> Host:
+    return Host(station, app)
+
+
 @dataclass
 class Link:
-    a: Station3964
-    b: Station3964
+    a: Any
+    b: Any
     #: called for every byte put on the line; returns DELIVER, DROP, CORRUPT or DUPLICATE
     hook: Callable[[WireByte], str] | None = None
     now: float = 0.0
@@ -45,8 +57,10 @@ class Link:
     #: stations whose application sends back every block they receive (the echo convention)
     echo: set[str] = field(default_factory=set)
     #: the application of a station by name (an object with ``drain(now)``, e.g. an RK 512
-    #: host); a station not named here gets a 3964(R) Host (echo or none)
+    #: host); a station not named here gets host_factory(station, "echo" or "none")
     hosts: dict[str, object] = field(default_factory=dict)
+    #: builds the application of a station not named in ``hosts`` (default: 3964's Host)
+    host_factory: Callable[[Any, str], Any] = _default_host
 
     def __post_init__(self) -> None:
         if self.a.name == self.b.name:
@@ -54,8 +68,17 @@ class Link:
         self._flight: list[tuple[float, int, str, str, int]] = []  # (arrive, seq, dest, kind, value)
         self._seq = 0
         self._peer = {self.a.name: self.b, self.b.name: self.a}
-        self._hosts = {st.name: self.hosts.get(st.name) or Host(st, "echo" if st.name in self.echo else "none")
+        self._hosts = {st.name: self.hosts.get(st.name)
+                       or self.host_factory(st, "echo" if st.name in self.echo else "none")
                        for st in (self.a, self.b)}
+        #: modem-line changes: (time, station, output, value)
+        self.signals: list[tuple[float, str, str, int]] = []
+        # a null-modem cable: each station's inputs start at the other's outputs
+        for st in (self.a, self.b):
+            peer = self._peer[st.name]
+            if hasattr(st, "pop_signals") and hasattr(peer, "set_line"):
+                for out, inp in NULL_MODEM.items():
+                    setattr(peer, inp, getattr(st, out))
 
     # -- control -------------------------------------------------------------------
     def power_on(self, at: float | None = None, *, b_at: float | None = None) -> None:
@@ -71,17 +94,17 @@ class Link:
             self.b.power_on(b_at)
             self._collect(b_at)
 
-    def request(self, station: Station3964, payload: bytes, at: float | None = None) -> None:
+    def request(self, station: Any, payload: bytes, at: float | None = None) -> None:
         t = self.now if at is None else at
         self.run_until(t)
         station.request_send(t, payload)
         self._collect(t)
 
-    def inject_break(self, to: Station3964, at: float | None = None) -> None:
+    def inject_break(self, to: Any, at: float | None = None) -> None:
         """A BREAK condition reaches ``to`` at ``at``."""
         self._push(self.now if at is None else at, to.name, "break", 0)
 
-    def inject(self, to: Station3964, data: bytes, at: float | None = None,
+    def inject(self, to: Any, data: bytes, at: float | None = None,
                kind: str = "byte") -> None:
         """Characters arriving at ``to`` from outside the two stations (noise)."""
         t = self.now if at is None else at
@@ -168,8 +191,15 @@ class Link:
                         self._push(at + char, dest, kind, byte)
                         if fate == DUPLICATE:
                             self._push(at + 2 * char, dest, kind, byte)
-            if st._events:
-                self.events.extend((st.name, e) for e in self._hosts[st.name].drain(t))
+            # every instant: an application may act without a new event (a delayed read)
+            self.events.extend((st.name, e) for e in self._hosts[st.name].drain(t))
+            # signals after the application: what it did may have switched one
+            if hasattr(st, "pop_signals"):
+                peer = self._peer[st.name]
+                for at, out, value in st.pop_signals(t):
+                    self.signals.append((at, st.name, out, value))
+                    if out in NULL_MODEM and hasattr(peer, "set_line"):
+                        self._push(at, peer.name, NULL_MODEM[out], value)
 
     # -- views -----------------------------------------------------------------------
     def transcript(self) -> list[tuple[str, bytes]]:
@@ -182,5 +212,5 @@ class Link:
                 runs.append((w.src, bytearray([w.byte])))
         return [(n, bytes(b)) for n, b in runs]
 
-    def events_of(self, station: Station3964, kind: type | None = None) -> list[Event]:
+    def events_of(self, station: Any, kind: type | None = None) -> list[Event]:
         return [e for n, e in self.events if n == station.name and (kind is None or isinstance(e, kind))]
