@@ -18,7 +18,7 @@ from .model.events import Delivered, status_text
 from .profile import Profile
 from .scenario import Expr, Step, Vector, brief_hex, expand, timer_env
 from .driver import Endpoint, drive_station
-from .transport.base import (BREAK, CHAR_ERROR, RESTART, STATUS, IUTDied, Transport,
+from .transport.base import (BREAK, CHAR_ERROR, NETWORK, RESTART, STATUS, IUTDied, Transport,
                              TransportError)
 
 # ------------------------------------------------------------------ tolerances
@@ -534,7 +534,9 @@ class Runner:
             if res.verdict == R.FAIL and reruns < self._rerun_budget(v, outcome, realtime):
                 reruns += 1
                 why = ("failed by timing only" if outcome == "late" else
-                       "failed; the case works close to a timer's edge, so it runs again")
+                       "failed; the case works close to a timer's edge, so it runs again" if v.timing_sensitive else
+                       "failed over a network serial server, whose delays can stretch a gap on the line; "
+                       "it runs again")
                 res.notes.append(f"attempt {attempts} {why}: {res.message}")
                 self._pause(voided + reruns, realtime)
                 continue
@@ -560,12 +562,16 @@ class Runner:
         ``edge_attempts`` times in all over a real-time transport, and passes if any attempt
         passes: one acceptance proves the IUT waits long enough, while a refusal may come
         from a process that was scheduled a few milliseconds late. A deterministic early
-        timeout fails every attempt."""
+        timeout fails every attempt. Over a network serial server (rfc2217://, socket://)
+        every failed case runs once more: a server that stalls longer than CDT puts a gap on
+        the line that the harness never sent."""
         if not self.opts.confirm_late:
             return 0
         budget = 1 if outcome == "late" else 0
         if v.timing_sensitive and realtime:
             budget = max(budget, self.opts.edge_attempts - 1)
+        if NETWORK in self.factory.capabilities and realtime:
+            budget = max(budget, 1)   # a server that stalls longer than CDT puts a gap on the line
         return budget
 
     def _pause(self, n: int, realtime: bool) -> None:

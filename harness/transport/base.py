@@ -15,6 +15,8 @@ BREAK = "break"              # can send a BREAK condition to the IUT
 CHAR_ERROR = "char_error"    # can send a character with a parity/framing error
 RESTART = "restart"          # starts a fresh IUT for every case (sees its start-up)
 STATUS = "status"            # collects the STATUS events the IUT reports
+NETWORK = "network"          # a network serial server sits between the harness and the line: its
+                             # delays can stretch a gap on the line beyond what the harness sent
 
 STATUS_LINE = re.compile(rb"STATUS\s+16#([0-9A-Fa-f]{4})")
 

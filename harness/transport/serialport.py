@@ -38,7 +38,7 @@ import time
 from dataclasses import dataclass
 
 from ..model import Params3964
-from .base import BREAK, CHAR_ERROR, CloseInfo, Transport, TransportError
+from .base import BREAK, CHAR_ERROR, NETWORK, CloseInfo, Transport, TransportError
 
 #: the transport carries BREAK / character errors as real line conditions (not PARMRK marks)
 NATIVE = "native_line_conditions"
@@ -329,6 +329,8 @@ class SerialTransport(Transport):
             caps |= {BREAK, NATIVE}
         if self.line.char_error:
             caps.add(CHAR_ERROR)
+        if self.line.scheme.name in ("rfc2217", "socket"):
+            caps.add(NETWORK)
         return frozenset(caps)
 
     @property
