@@ -7,6 +7,9 @@ pty pair behind an RFC 2217 server built on pyserial's PortManager
 import json
 import os
 import select
+import shutil
+import signal
+import socket
 import subprocess
 import sys
 import time
@@ -21,6 +24,7 @@ from ptpcert.profile import reference_profile
 from ptpcert.runner import Runner
 from ptpcert.scenario import Step, Vector
 from ptpcert.transport import BREAK, CHAR_ERROR, TransportError
+from ptpcert.transport.base import NETWORK
 from ptpcert.transport.serialport import NATIVE, SerialTransport, scheme_of
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -49,6 +53,21 @@ def port_server(mode: str, command: str, tmp_path: Path, parmrk: bool = True):
         except subprocess.TimeoutExpired:
             proc.kill()
             proc.wait()
+
+
+def judged(p: subprocess.CompletedProcess, results: Path) -> list[dict]:
+    """The cases of a run that must raise no false alarm: nothing failed; a case may end in
+    error only as a harness timing fault (the machine was too loaded to keep the timing on
+    every attempt, which is never blamed on the IUT), and then only a few."""
+    assert p.returncode in (0, 2), p.stdout[-3000:] + p.stderr
+    cases = json.loads(results.read_text())["cases"]
+    verdicts = {c["verdict"] for c in cases}
+    assert verdicts <= {"pass", "non-strict", "informational", "unsupported", "error"}, verdicts
+    errors = [c for c in cases if c["verdict"] == "error"]
+    assert all(c["message"].startswith("harness timing fault") for c in errors), \
+        [(c["id"], c["message"]) for c in errors]
+    assert len(errors) <= 3 and (p.returncode == 2) == bool(errors), [c["id"] for c in errors]
+    return cases
 
 
 def wait_for(predicate, timeout=5.0):
@@ -86,8 +105,8 @@ def test_each_scheme_declares_what_it_carries():
     caps = {u: SerialTransport(u, PARAMS).capabilities
             for u in ("/dev/ttyS0", "rfc2217://h:1", "socket://h:1", "loop://")}
     assert caps["/dev/ttyS0"] == {BREAK, CHAR_ERROR, NATIVE}
-    assert caps["rfc2217://h:1"] == {BREAK, NATIVE}      # no character errors over the network
-    assert caps["socket://h:1"] == caps["loop://"] == frozenset()
+    assert caps["rfc2217://h:1"] == {BREAK, NATIVE, NETWORK}   # no character errors over the network
+    assert caps["socket://h:1"] == {NETWORK} and caps["loop://"] == frozenset()
     assert SerialTransport("/dev/ttyS0", PARAMS.with_(parity="none")).capabilities == {BREAK, NATIVE}
 
 
@@ -117,6 +136,18 @@ def test_native_line_conditions_need_no_marking_by_the_iut():
     assert runner.unsupported_reason(vector("break"), rfc2217) is None
     assert "parity" in runner.unsupported_reason(vector("send_error"), rfc2217)
     assert "reads no line conditions" in runner.unsupported_reason(vector("break"), frozenset({BREAK}))
+
+
+def test_a_failure_over_a_network_link_must_reproduce():
+    """A port server stalled longer than CDT puts a gap on the line the harness never sent:
+    over rfc2217:// and socket:// a failed case runs once more before its failure stands."""
+    class F:
+        capabilities = frozenset({BREAK, NATIVE, NETWORK})
+    v = Vector(id="X", title="x", reference="-", rule="-", group="receive", iut_role="receiver",
+               params=PARAMS, steps=(Step("send", b"\x02"),))
+    assert Runner(F(), reference_profile())._rerun_budget(v, "ok", realtime=True) == 1
+    F.capabilities = frozenset({BREAK, NATIVE})
+    assert Runner(F(), reference_profile())._rerun_budget(v, "ok", realtime=True) == 0
 
 
 def test_a_pty_as_device_carries_bytes_but_no_line_conditions():
@@ -166,9 +197,15 @@ def test_rfc2217_reads_cost_nothing_and_break_reaches_the_iut(tmp_path, monkeypa
         tr = SerialTransport(f"rfc2217://127.0.0.1:{port}", PARAMS)
         tr.open()                                   # pyserial 3.5 rejects a write timeout here
         try:
-            assert tr.capabilities == {BREAK, NATIVE}
+            assert tr.capabilities == {BREAK, NATIVE, NETWORK}
             opened = len(calls)
             assert opened == 1
+            for _ in range(20):                    # until the IUT is up: it answers STX with DLE
+                tr.write(b"\x02")
+                if any(b == 0x10 for _, b in tr.read(tr.now() + 0.5)):
+                    break
+            while tr.read(tr.now() + 0.3):         # its NAK (CDT expired), then the line is quiet
+                pass
             t0 = tr.now()
             for _ in range(40):                    # 40 empty reads of 5 ms: about 0.2 s, not 40 x 50 ms
                 assert tr.read(tr.now() + 0.005) == []
@@ -192,9 +229,9 @@ def test_rfc2217_reads_cost_nothing_and_break_reaches_the_iut(tmp_path, monkeypa
 @pytest.mark.realtime
 def test_the_suite_runs_over_rfc2217_with_break_cases(tmp_path):
     """The whole suite over rfc2217:// against the reference implementation at 20 ms timers
-    on a pty behind an RFC 2217 server: nothing fails, the BREAK cases pass, and only cases
-    the link cannot serve (start-up, character errors, a full buffer) or the profile excludes
-    are unsupported."""
+    on a pty behind an RFC 2217 server: nothing fails (see judged()), the BREAK cases pass,
+    and only cases the link cannot serve (start-up, character errors, a full buffer) or the
+    profile excludes are unsupported."""
     prof = tmp_path / "p.toml"
     prof.write_text((ROOT / "conformance/profiles/reference-20ms.toml").read_text()
                     .replace('line_conditions = "parmrk"', 'line_conditions = "none"')
@@ -205,11 +242,8 @@ def test_the_suite_runs_over_rfc2217_with_break_cases(tmp_path):
                             "--profile", str(prof), "--json", str(out), "--junit", str(tmp_path / "j.xml")],
                            cwd=ROOT, capture_output=True, text=True, timeout=900)
         events = log.read_text()
-    assert p.returncode == 0, p.stdout[-3000:] + p.stderr
-    cases = json.loads(out.read_text())["cases"]
+    cases = judged(p, out)
     by = {c["id"]: c for c in cases}
-    verdicts = {c["verdict"] for c in cases}
-    assert verdicts <= {"pass", "non-strict", "informational", "unsupported"}, verdicts
     breaks = [c for c in cases if any(s["kind"] == "break" for s in c["steps"])
               and not any(s["kind"] == "send_error" for s in c["steps"])]
     assert len(breaks) >= 6 and all(c["verdict"] == "pass" for c in breaks), \
@@ -220,8 +254,74 @@ def test_the_suite_runs_over_rfc2217_with_break_cases(tmp_path):
     for c in cases:
         if c["verdict"] == "unsupported":
             assert any(a in c["message"] for a in allowed), (c["id"], c["message"])
-    ran = [c for c in cases if c["verdict"] != "unsupported"]
-    assert len(ran) >= 90
+    assert sum(c["verdict"] == "pass" for c in cases) >= 88
     # each BREAK went through the server as a line condition and the IUT reported it
     attempts = sum(c["attempts"] for c in breaks)
     assert events.count("BREAK on") >= attempts and events.count("STATUS 16#080D") >= attempts
+
+
+# -- the README's ser2net recipe, where ser2net and socat are installed -------------------------
+def _readme_ser2net_yaml() -> str:
+    text = (ROOT / "README.md").read_text()
+    section = text[text.index("### Lab links: ser2net"):]
+    return section.split("```yaml\n", 1)[1].split("```", 1)[0]
+
+
+def test_the_readme_has_a_ser2net_recipe():
+    yaml = _readme_ser2net_yaml()
+    assert "telnet(rfc2217),tcp(nodelay)," in yaml and "chardelay: false" in yaml
+    assert "serialdev,/dev/ttyUSB0," in yaml
+
+
+@pytest.mark.realtime
+@pytest.mark.skipif(not (shutil.which("ser2net") and shutil.which("socat")),
+                    reason="needs Debian's ser2net and socat (apt-get install ser2net socat)")
+def test_the_readme_ser2net_recipe_works(tmp_path):
+    """The README's ser2net.yaml, bound to 127.0.0.1, serving one end of a socat pty pair with
+    the reference implementation on the other: the cases pass over rfc2217:// (BREAK cases
+    are left out: a pty has no BREAK)."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    lab, dev = tmp_path / "ttyLAB", tmp_path / "ttyIUT"
+    conf = tmp_path / "ser2net.yaml"
+    conf.write_text(_readme_ser2net_yaml().replace("/dev/ttyUSB0", str(lab))
+                    .replace("tcp(nodelay),4001", f"tcp(nodelay),127.0.0.1,{port}"))
+    prof = tmp_path / "p.toml"
+    prof.write_text((ROOT / "conformance/profiles/reference-20ms.toml").read_text()
+                    .replace('line_conditions = "parmrk"', 'line_conditions = "none"')
+                    .replace("status_from_stderr = true", "status_from_stderr = false"))
+    procs = []
+
+    def start(cmd, **kw):
+        procs.append(subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                      start_new_session=True, **kw))
+    try:
+        start(["socat", f"pty,raw,echo=0,link={dev}", f"pty,raw,echo=0,link={lab}"])
+        assert wait_for(lambda: dev.exists() and lab.exists())
+        start([PY, "-m", "ptpcert.cli", "iut", "--cdt-ms", "20", "--adt-ms", "20", "--port", str(dev)])
+        start(["ser2net", "-n", "-c", str(conf)])
+
+        def listening():
+            with socket.socket() as c:
+                return c.connect_ex(("127.0.0.1", port)) == 0
+        assert wait_for(listening, 10)
+        time.sleep(0.5)   # ser2net drops the probe connection
+        p = subprocess.run([PY, "-m", "ptpcert.cli", "run", "--iut", f"rfc2217://127.0.0.1:{port}?ign_set_control",
+                            "--profile", str(prof), "--json", str(tmp_path / "r.json"),
+                            "--select", "3964R.FIG2-6.*", "--select", "SUITE.RECEIVE.*",
+                            "--select", "SUITE.TIMING.*", "--select", "SUITE.SEND.ECHO-*"],
+                           cwd=ROOT, capture_output=True, text=True, timeout=600)
+    finally:
+        for proc in reversed(procs):
+            try:
+                os.killpg(proc.pid, signal.SIGTERM)
+            except ProcessLookupError:
+                pass
+            try:
+                proc.wait(5)
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)
+                proc.wait()
+    cases = judged(p, tmp_path / "r.json")
+    assert sum(c["verdict"] == "pass" for c in cases) >= 30
