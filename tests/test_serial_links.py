@@ -19,7 +19,6 @@ from pathlib import Path
 
 import pytest
 
-from ptpcert.model import Params3964
 from ptpcert.profile import reference_profile
 from ptpcert.runner import Runner
 from ptpcert.scenario import Step, Vector
@@ -110,7 +109,7 @@ def test_each_scheme_declares_what_it_carries():
     assert SerialTransport("/dev/ttyS0", PARAMS.with_(parity="none")).capabilities == {BREAK, NATIVE}
 
 
-def test_a_scheme_says_what_it_cannot_do(tmp_path):
+def test_a_scheme_says_what_it_cannot_do():
     tr = SerialTransport("loop://", PARAMS)
     tr.open()
     try:

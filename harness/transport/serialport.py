@@ -20,6 +20,10 @@ Each kind of URL has its limits, declared in :data:`SERIAL_SCHEMES` and enforced
 * ``socket://``: bytes only; a raw TCP server drops BREAK.
 * ``loop://``: bytes only.
 
+``rfc2217://`` and ``socket://`` declare :data:`~.base.NETWORK`: a server that stalls longer
+than CDT puts a gap on the line the harness never sent, so the runner confirms a failure
+over them by running the case once more.
+
 Waiting for input costs nothing per call: where the port has a file descriptor (a device,
 ``socket://``) the caller selects on it and stamps the bytes when select returns; where it
 has none (``rfc2217://``, ``loop://``) a reader thread blocks in pyserial's read (a timeout
