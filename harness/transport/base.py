@@ -16,6 +16,8 @@ CHAR_ERROR = "char_error"    # can send a character with a parity/framing error
 RESTART = "restart"          # starts a fresh IUT for every case (sees its start-up)
 STATUS = "status"            # collects the STATUS events the IUT reports
 SETUPS = "setups"            # starts the IUT with a per-case command (profile [iut.setups])
+NETWORK = "network"          # a network serial server sits between the harness and the line: its
+                             # delays can stretch a gap on the line beyond what the harness sent
 
 STATUS_LINE = re.compile(rb"STATUS\s+16#([0-9A-Fa-f]{4})")
 
