@@ -405,7 +405,7 @@ class CaseRun:
         def stop() -> bool:
             # waiting for a repetition looks like idle on the line (3964r.md §8.5 item 7)
             at_rest = partner.state in ("IDLE", "WAIT_REPETITION") and partner.pending_jobs == 0
-            if not at_rest or partner._tx:
+            if not at_rest or partner.transmitting:
                 return False
             if want is not None and len(got) >= want:
                 return True

@@ -164,7 +164,7 @@ class Link:
                         self._push(at + char, dest, kind, byte)
                         if fate == DUPLICATE:
                             self._push(at + 2 * char, dest, kind, byte)
-            if st._events:
+            if st.has_events:
                 self.events.extend((st.name, e) for e in self._hosts[st.name].drain(t))
 
     # -- views -----------------------------------------------------------------------
