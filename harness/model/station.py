@@ -44,7 +44,9 @@ from .events import Delivered, Event, SendDone, SendFailed, Status
 from .params import T_BLOCK, T_NAKTIM, Params3964
 from .readings import READINGS, Readings
 
-_DECISIONS = frozenset(T.DECISIONS)
+# the method of each action and decision, named once (not built per input)
+_ACT = {a: "_a_" + a for a in T.Action}
+_DECIDE = {d: "_d_" + d.lower() for d in T.DECISIONS}
 _CLASS = [T.OTHER] * 256
 _CLASS[STX], _CLASS[DLE], _CLASS[ETX], _CLASS[NAK] = T.STX, T.DLE, T.ETX, T.NAK
 _END = bytes((DLE, ETX))
@@ -417,13 +419,14 @@ class Station3964:
         self._timer_started = False
         if self.tx_log is not None:
             self._why = (inp, [row.action])
-        getattr(self, "_a_" + row.action)(value)
+        action = row.action
+        getattr(self, _ACT.get(action) or "_a_" + action)(value)
         target = row.target
         decided = None
-        while target in _DECISIONS:
+        while target in _DECIDE:
             if self.tx_log is not None:
                 self._why[1].append(target)
-            outcome = getattr(self, "_d_" + target.lower())()
+            outcome = getattr(self, _DECIDE[target])()
             if self.trace is not None:
                 decided = (decided or ()) + ((target, outcome),)
             target = outcome
