@@ -74,6 +74,18 @@ def _status(args) -> int:
     return status
 
 
+def _model(args) -> int:
+    from . import statechart
+
+    if args.svg:
+        with open(args.svg, "w", encoding="utf-8") as f:
+            f.write(statechart.svg())
+        print(f"ptpcert: state machine drawn into {args.svg}")
+    else:
+        sys.stdout.write(statechart.table_text())
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(
         prog="ptpcert",
@@ -97,6 +109,10 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("code", nargs="*", help="16#0808, 0x0808 or 0808")
     s.add_argument("--list", action="store_true", help="list all 80 events")
     s.set_defaults(func=_status)
+
+    m = sub.add_parser("model", help="the 3964/3964R transition table, as text or drawn (--svg)")
+    m.add_argument("--svg", metavar="FILE", help="draw the state machine into FILE (a self-contained SVG)")
+    m.set_defaults(func=_model)
 
     from . import cli_run
     cli_run.add_commands(sub)

@@ -51,57 +51,19 @@ FUZZ_PROFILES = ("ptpcert-quick", "ptpcert-thorough")
 
 
 # ------------------------------------------------------------------ rules the expectations stand for
-_SETUP_FAIL = ("setup_refused", "setup_timeout", "setup_invalid_character")
-_TX_FAIL = ("send_refused", "release_refused", "release_timeout", "release_invalid_character",
-            "dle_during_send", "abort_nak")
-_RX_END = ("bcc_received", "end_of_text", "character_timeout", "bcc_invalid_character")
-_RESUME = ("release_acknowledged", "repetition_timeout", "partner_gave_up", "abandon_reception", "abort_job",
-           "no_buffer", "quiet_nak", "report_break", "bcc_received", "end_of_text")
-BLOCK_RULE = "§7.2 item 1: after the partner's DLE the block: data with each DLE doubled, DLE ETX [BCC]"
+#: every rule an expectation can name: the rows and decision outcomes of the table that send
+_RULES = sorted({T.rule_text(e) for e in [r for _, _, r in T.rows()] + [b for _, b in T.branches()] if e.rule},
+                key=len, reverse=True)
+BLOCK_RULE = T.rule_text(T.TABLE[T.WAIT_SETUP_ACK][T.DLE])
+UNEXPLAINED_RULE = "the reference model's behaviour"
 
 
 def rule_for(actions: list[str], byte: int) -> str:
     """The manual's rule that makes a conforming station send ``byte`` after running
-    ``actions`` (table rows, newest last)."""
-    last = actions[-1] if actions else ""
-    if "setup_acknowledged" in actions:
-        return BLOCK_RULE
-    if "send_startup_nak" in actions:
-        return "§6: one NAK at start-up"
-    if byte == 0x10:
-        if last in ("begin_reception", "repetition_begins") or "begin_reception" in actions[-2:]:
-            return "§8.2 item 1: STX is answered with DLE"
-        if "initialization_conflict" in actions:
-            return "§9 item 3: a low-priority station defers and answers the partner's STX with DLE"
-        if "buffer_freed" in actions:
-            return "§8.2 item 2: DLE as soon as a receive buffer is free"
-        if any(a in _RX_END for a in actions):
-            return "§8.4: a block received without error is acknowledged with DLE"
-    if byte == 0x15:
-        if "quiet_nak" in actions:
-            return "§8.1 item 3: a stray character is answered with NAK once the line is quiet for CDT"
-        if "abort_nak" in actions:
-            return "§7.2 item 4: after a character during its block the sender waits for CDT of quiet, then NAK"
-        if "no_buffer" in actions:
-            return "§8.2 item 2: with no free buffer the STX is answered with NAK after 400 ms"
-        if any(a in _SETUP_FAIL for a in actions):
-            return "§7.1 item 6: after the last setup attempt the sender sends NAK and gives up"
-        if any(a in _TX_FAIL for a in actions):
-            return "§7.5: after the last transmission attempt the sender sends NAK and gives up"
-        if "character_timeout" in actions:
-            return "§8.3 item 5: CDT exceeded in a reception: NAK"
-        if any(a in _RX_END for a in actions) or "dle_followed_by_other" in actions:
-            return "§8.3-8.4: a block with an error (BCC, character error, DLE sequence, length) is refused with NAK"
-    if byte == 0x02:
-        if any(a in _SETUP_FAIL for a in actions):
-            return "§7.1 items 3-5: a failed setup attempt is repeated with STX"
-        if any(a in _TX_FAIL for a in actions):
-            return "§7.3-7.4: a failed transmission attempt starts again with STX"
-        if "start_job" in actions:
-            return "§7.1 item 1: a send job starts with STX"
-        if any(a in _RESUME for a in actions):
-            return "§8.1 item 6, §9 item 3: a waiting send job starts with STX once the station is idle"
-    return "the reference model's behaviour (§2.2; Figs. 2-9 to 2-12)"
+    ``actions`` (the table row's action and the decisions taken, as the station's explain log
+    records them): the rule and reference of the row or decision outcome that sends it."""
+    element = T.rule_for(actions, byte)
+    return UNEXPLAINED_RULE if element is None else T.rule_text(element)
 
 
 def _note(rule: str, codes) -> str:
@@ -193,7 +155,7 @@ class CoSim:
             horizon = max(last, self.t) + quiet
             if d is None or d > horizon:
                 self.advance(horizon)
-                if not self.st._tx:
+                if not self.st.transmitting:
                     return
             else:
                 self.advance(d)
@@ -205,13 +167,13 @@ class CoSim:
         to one of the IUT's deadlines (a timer, the end of its transmission) that a real
         process could see the two in either order: then the deadline runs out first and the
         stimulus follows what it caused. Returns the start and the delay the vector states."""
-        inf = float("inf")
         while True:
             self.flush_expectations()
             start = max(self.ref + at, self.t)
             arrival = start + self.char
-            near = [d for d in (self.st._timer_at, self.st._tx_done_at)
-                    if d != inf and arrival - self.edge_margin < d < arrival + self.edge_margin]
+            timer, done = self.st.timer, self.st.block_done_at
+            near = [d for d in (timer[1] if timer else None, done)
+                    if d is not None and arrival - self.edge_margin < d < arrival + self.edge_margin]
             if not near:
                 return start, start - self.ref
             self.advance(max(near) + self.edge_margin)
@@ -470,7 +432,7 @@ class Generator:
 
     def _answer(self, sim: CoSim, data, where: str) -> None:
         p = self.p
-        sim.advance(max(sim.t, sim.st._tx_free_at))  # the IUT's STX / block is completely out
+        sim.advance(max(sim.t, sim.st.busy_until))  # the IUT's STX / block is completely out
         how = self._refusal(sim, data, where)
         if how is None:
             how = data.draw(st.sampled_from(["dle", "dle", "nak", "other", "silence", "stx"]
@@ -504,19 +466,20 @@ class Generator:
         else:
             how = data.draw(st.sampled_from(["nothing", "nak", "other"] + (["break"] if self.line else [])),
                             label="interrupt")
-        body = st_._body(st_.job.payload) if st_.job else b""
-        start = st_._tx_done_at - len(body) * p.char_time
-        if how == "nothing" or p.char_time == 0 or len(body) < 16 or st_._tx_done_at == float("inf"):
-            sim.advance(st_._tx_done_at if st_._tx_done_at != float("inf") else sim.t)
+        body = st_.block_body(st_.job.payload) if st_.job else b""
+        end = st_.block_done_at
+        if how == "nothing" or p.char_time == 0 or len(body) < 16 or end is None:
+            sim.advance(end if end is not None else sim.t)
             return
+        start = end - len(body) * p.char_time
         done = max(1, int(round((sim.t - start) / p.char_time)))
         if done > len(body) - 12:
-            sim.advance(st_._tx_done_at)
+            sim.advance(end)
             return
         k = data.draw(st.integers(done, len(body) - 12), label="interrupt after")
         window = body[k:k + 64]
         if 0x02 in window or 0x15 in window:
-            sim.advance(st_._tx_done_at)
+            sim.advance(end)
             return
         sim.advance(start + k * p.char_time + 1e-9)   # the k-th byte of the block is complete
         sim.flush_expectations()
@@ -524,7 +487,7 @@ class Generator:
             sim.brk(20 * p.char_time)
         else:
             sim.send(b"\x15" if how == "nak" else b"\x42", note="NAK" if how == "nak" else "another character")
-        sim.advance(max(sim.t, st_._popped_end, st_._tx_free_at if st_.state is not T.SEND_DATA else sim.t))
+        sim.advance(max(sim.t, st_.popped_until, st_.busy_until if st_.state is not T.SEND_DATA else sim.t))
         rest_sent = [o for o in sim.outs if o.rule == BLOCK_RULE]
         sim.outs = [o for o in sim.outs if o.rule != BLOCK_RULE]
         sim.steps.append(Step("expect", body[k:], partial=True, after=Expr("-24*CHAR"), within=Expr("4*CHAR"),
@@ -547,11 +510,11 @@ class Generator:
                 if data is not None:
                     self._answer(sim, data, "setup" if s == T.WAIT_SETUP_ACK else "release")
                 else:
-                    sim.advance(max(sim.t, st_._tx_free_at))
+                    sim.advance(max(sim.t, st_.busy_until))
                     sim.send(b"\x10", note="DLE (the tester accepts)")
             elif s == T.SEND_DATA and data is not None:
                 self._interrupt_block(sim, data)
-            elif s in (T.IDLE, T.WAIT_REPETITION) and not st_._tx and st_.pending_jobs == 0:
+            elif s in (T.IDLE, T.WAIT_REPETITION) and not st_.transmitting and st_.pending_jobs == 0:
                 break
             else:
                 d = st_.next_deadline()
@@ -738,9 +701,20 @@ def _divergent_rule(v: Vector, res: R.CaseResult) -> tuple[str, str]:
     if res.divergence is not None and 0 <= res.divergence.step < len(v.steps):
         note = v.steps[res.divergence.step].note
         if note:
-            rule, _, codes = note.partition(" [STATUS ")
-            return rule, codes.rstrip("]")
+            return rule_of_note(note)
     return "after the exchange the line stays quiet (no spurious bytes)", ""
+
+
+def rule_of_note(note: str) -> tuple[str, str]:
+    """The rule an expectation's note names (one of the table's, when a rule of the model
+    made it) and the STATUS codes it lists."""
+    rule = next((r for r in _RULES if note.startswith(r)), None)
+    if rule is None:   # a note the generator wrote itself ("the IUT stops sending its block")
+        rule = note.partition(" [STATUS ")[0]
+    codes = note[len(rule):].strip()
+    if codes.startswith("[STATUS ") and codes.endswith("]"):
+        return rule, codes[len("[STATUS "):-1]
+    return rule, ""
 
 
 def export(findings: list[Finding], directory: str | Path) -> list[Path]:

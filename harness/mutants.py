@@ -3,7 +3,9 @@
 They prove the suite's detection power: ``ptpcert iut --mutant NAME`` runs one in real
 time, ``sim:?mutant=NAME`` in virtual time; the tests run the suite against each and
 check that it fails, naming the cases that caught it. A mutant is the reference station
-with one action, decision or table row changed; nothing else differs.
+with one action, decision or table row changed; nothing else differs. A variant overrides the
+station's protected hooks (actions, decisions, ``_body``, ``_durations``, the attempt limits) or
+patches rows of its table; it never touches the station's private fields.
 """
 
 from __future__ import annotations
@@ -11,8 +13,7 @@ from __future__ import annotations
 from .model import Params3964, Station3964
 from .model import events as ev
 from .model import table as T
-from .model.codec import DLE, ETX, NAK, STX
-from .model.station import _xor
+from .model.codec import DLE, ETX, NAK, STX, bcc
 from .procedure import Mutant
 
 
@@ -31,6 +32,12 @@ def _patched(table: dict, state: str, inp: str, row: T.Row) -> dict:
     out = {s: dict(rows) for s, rows in table.items()}
     out[state][inp] = row
     return out
+
+
+def _patched_states(table: dict, states, inp: str, row: T.Row) -> dict:
+    for state in states:
+        table = _patched(table, state, inp, row)
+    return table
 
 
 # ---------------------------------------------------------------- framing and BCC (send)
@@ -52,14 +59,14 @@ class _(Station3964):
 class _(Station3964):
     def _body(self, payload):
         b = super()._body(payload)
-        return b[:-1] + bytes([_xor(payload) ^ DLE ^ ETX]) if self.params.has_bcc else b
+        return b[:-1] + bytes([bcc(payload)]) if self.params.has_bcc else b
 
 
 @mutant("no-dle-doubling", "§3 item 1: data DLEs are not doubled")
 class _(Station3964):
     def _body(self, payload):
         b = payload + bytes([DLE, ETX])
-        return b + bytes([_xor(b)]) if self.params.has_bcc else b
+        return b + bytes([bcc(payload)]) if self.params.has_bcc else b
 
 
 @mutant("bcc-doubled-when-dle", "§3 item 5: a BCC equal to DLE is doubled")
@@ -73,7 +80,7 @@ class _(Station3964):
 @mutant("no-dle-undoubling", "§3 item 2: DLE DLE in the data is stored as two bytes")
 class _(Station3964):
     def _a_store_doubled_dle(self, v):
-        self._buf.append(DLE)
+        self._store(DLE, in_bcc=False)  # the first DLE is kept as data; the BCC is unchanged
         super()._a_store_doubled_dle(v)
 
 
@@ -91,9 +98,7 @@ class _(Station3964):
 
 @mutant("dle-other-accepted", "§8.3 item 3: DLE followed by another character is taken as data (no 16#0805)")
 class _(Station3964):
-    def _a_dle_followed_by_other(self, v):
-        self._store(v)
-        self._timer_started = True
+    TABLE = _patched(T.TABLE, T.WAIT_ETX, T.OTHER, T.Row("store", T.RECEIVE))
 
 
 @mutant("no-length-limit", "§8.3 item 6: blocks longer than 1024 bytes are accepted")
@@ -119,7 +124,7 @@ class _(Station3964):
     def _d_receive_entry(self):
         out = super()._d_receive_entry()
         if out == T.RECEIVE:
-            self._timer, self._timer_at = None, float("inf")
+            self._stop_timer()
         return out
 
 
@@ -183,8 +188,10 @@ class _(Station3964):
 @mutant("no-final-tx-nak", "§7.5 item 1: no NAK after the last failed transmission attempt")
 class _(Station3964):
     def _d_tx_check(self):
-        self._nak_just_sent = True  # pretend a NAK went out already
-        return super()._d_tx_check()
+        if self.job.w <= self._tx_limit():
+            return super()._d_tx_check()
+        self._fail_job(ev.TX_ATTEMPTS_EXCEEDED)
+        return T.IDLE
 
 
 @mutant("nak-after-data-nak", "§7.2 item 3: a NAK during the data is answered with a NAK of its own")
@@ -203,16 +210,16 @@ class _(Station3964):
 
 @mutant("adt-half", "Table 2-4: the sender waits only half the ADT for DLE")
 class _(Station3964):
-    def __init__(self, *a, **kw):
-        super().__init__(*a, **kw)
-        self._adt /= 2
+    def _durations(self):
+        cdt, adt = super()._durations()
+        return cdt, adt / 2
 
 
 @mutant("cdt-half", "Table 2-4: the receiver times out after half the CDT")
 class _(Station3964):
-    def __init__(self, *a, **kw):
-        super().__init__(*a, **kw)
-        self._cdt /= 2
+    def _durations(self):
+        cdt, adt = super()._durations()
+        return cdt / 2, adt
 
 
 # ---------------------------------------------------------------- priority
@@ -228,11 +235,7 @@ class _(Station3964):
 
 @mutant("low-priority-insists", "§9 item 3: a low-priority station ignores the partner's STX", priority="low")
 class _(Station3964):
-    def _a_initialization_conflict(self, v):
-        self._timer_started = True
-
-    def _d_priority(self):
-        return T.WAIT_SETUP_ACK
+    TABLE = _patched(T.TABLE, T.WAIT_SETUP_ACK, T.STX, T.Row("ignore", T.SAME))  # T_ADT keeps running
 
 
 # ---------------------------------------------------------------- BREAK
@@ -255,8 +258,9 @@ class _(Station3964):
 
 @mutant("retry-after-break", "§7.6: a BREAK during sending is followed by a new attempt")
 class _(Station3964):
+    TABLE = _patched_states(T.TABLE, T.SENDER_STATES, T.BREAK, T.Row("abort_job", T.TX_CHECK))
+
     def _a_abort_job(self, v):
         self._cancel_tx()
         self._emit(ev.Status(self.now, ev.LINE_BREAK, "send"))
         self.job.w += 1
-        self._override = T.TX_CHECK
