@@ -242,6 +242,8 @@ class Link:
     def maybe_start(self, now):
         if self.state != IDLE:
             return
+        if self.job is not None and self.job.cancelled:
+            self.job = None                                 # given up while deferred
         if self.job is not None:
             # deferred by an initialization conflict (A21): X not reset
             self.job.X += 1
@@ -411,6 +413,12 @@ class Link:
 
     # ---------------------------------------------------------------- sender
     def send_stx(self):
+        if self.job.cancelled:
+            # the request above gave the frame up (e.g. 16#0A01) before it went
+            # out: no new setup attempt for it (a deferred or repeated block)
+            self.job = None
+            self.goto(IDLE)
+            return
         self.goto(S_SETUP)
         self.arm_after([STX], self.adt)
 

@@ -17,10 +17,12 @@ import os
 import queue
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+TMP = tempfile.TemporaryDirectory(prefix="rk512-selftest-")      # request scripts
 IUT = os.path.join(HERE, "iut_rk512.py")
 STX, ETX, DLE, NAK = 0x02, 0x03, 0x10, 0x15
 
@@ -88,7 +90,7 @@ class Proc:
 
 
 # ============================================================ 1. back to back
-def decode_wire(log):
+def decode_wire(log, with_bcc=True):
     """Split a recorded two-way 3964R exchange (clean line) into blocks:
     [(direction, payload)].  Setup: STX from X, acknowledged by DLE from Y; a
     station that answers DLE while its own STX is out has yielded a conflict."""
@@ -107,8 +109,11 @@ def decode_wire(log):
             if b == DLE:
                 buf[d].append(DLE)
                 state[d] = "data"
-            elif b == ETX:
+            elif b == ETX and with_bcc:
                 state[d] = "bcc"
+            elif b == ETX:
+                blocks.append((d, bytes(buf[d])))
+                state[d] = "idle"
             else:
                 raise Fail("wire: DLE + %02x inside a block from %s" % (b, d))
         elif st == "bcc":
@@ -125,10 +130,13 @@ def decode_wire(log):
     return blocks
 
 
-def c_back_to_back(brk=None):
-    tmp = os.path.join("/tmp", "rk512-selftest-%d" % os.getpid())
-    os.makedirs(tmp, exist_ok=True)
+def c_back_to_back(brk=None, link="3964R"):
+    tmp = TMP.name
     a_script = write_script(tmp, "a.txt", [
+        # both stations send their start-up NAK; a STX that crosses the
+        # partner's start-up NAK is a failed setup (0702) and, over plain 3964
+        # without BCC, can corrupt the first block: start after the NAKs
+        "wait 300",
         "send DB10:DW0:LEN=200",
         "fetch DB10:DW0:LEN=200",
         "fetch DB20:DW0:LEN=200",
@@ -141,12 +149,12 @@ def c_back_to_back(brk=None):
         "fetch E:0:LEN=10",
     ])
     b_script = write_script(tmp, "b.txt", [
-        "wait 100",
+        "wait 400",
         "send DB30:DW0:LEN=300",
         "fetch M:0:LEN=8",
         "fetch DB30:DW0:LEN=300",
     ])
-    common = ["--tres-ms", "5000"]                 # 9600 bit/s, 11-bit characters
+    common = ["--tres-ms", "5000", "--link", link]  # 9600 bit/s, 11-bit characters
     extra = ["--break", brk] if brk else []
     A = Proc(common + ["--priority", "high", "--requests", a_script] + extra)
     B = Proc(common + ["--priority", "low", "--requests", b_script] + extra)
@@ -223,7 +231,7 @@ def c_back_to_back(brk=None):
         got = fetched(lines, label)
         if got != want:
             raise Fail("%s fetched %s, want %s" % (label, got.hex(), want.hex()))
-    blocks = decode_wire(log)
+    blocks = decode_wire(log, link == "3964R")
     a_blocks = [p for d, p in blocks if d == "A"]
     b_blocks = [p for d, p in blocks if d == "B"]
     d200 = seed_data(200)
@@ -349,9 +357,7 @@ FAST = ["--cdt-ms", "50", "--adt-ms", "300", "--baud", "38400", "--parmrk", "--t
 def peer(extra, brk, script=None):
     args = list(FAST) + list(extra)
     if script is not None:
-        tmp = os.path.join("/tmp", "rk512-selftest-%d" % os.getpid())
-        os.makedirs(tmp, exist_ok=True)
-        args += ["--requests", write_script(tmp, "s.txt", script)]
+        args += ["--requests", write_script(TMP.name, "s.txt", script)]
     if brk:
         args += ["--break", brk]
     p = Peer(args)
@@ -361,6 +367,11 @@ def peer(extra, brk, script=None):
 
 def cmd(b3, b4, b5, b6, length, b9=0xFF, b10=0x1F):
     return bytes([0, 0, b3, b4, b5, b6, length >> 8, length & 0xFF, b9, b10])
+
+
+def c_back_to_back_3964(brk=None):
+    """The same pair with plain 3964 (no BCC) as the link (R1.6, AMB-27)."""
+    return c_back_to_back(brk, "3964")
 
 
 def c_p_fetch_300(brk=None):
@@ -505,8 +516,71 @@ def c_a_tres(brk=None):
         raise Fail("%s after %.2f s" % (r, t - t0))
 
 
-CHECKS = [c_back_to_back, c_p_fetch_300, c_p_no_db, c_p_short_send, c_p_cont_timeout, c_p_flag,
-          c_p_unsolicited, c_a_send_200, c_a_fetch_counters, c_a_odd_send, c_a_reatels, c_a_tres]
+def c_a_quasi_duplex(brk=None):
+    """Active SEND 200 waiting for its response; the partner first sends its own
+    FETCH (answered), then the response: the request goes on (R8.4, A-08)."""
+    p = peer([], brk, ["send DB10:DW0:LEN=200"])
+    d = seed_data(200)
+    p.expect_block(bytes([0, 0, 0x41, 0x44, 10, 0, 0, 100, 0xFF, 0x1F]) + d[:128], 1.0, "first frame")
+    p.send_block(cmd(0x45, 0x44, 20, 0, 2), "partner's own FETCH")
+    p.expect_block(bytes(4) + bytes(pattern_db(20, i) for i in range(4)), 1.0, "answer to the FETCH")
+    p.send_block(bytes(4), "response to the first frame")
+    p.expect_block(bytes([0xFF, 0, 0x41, 0x44]) + d[128:], 1.0, "continuation")
+    p.send_block(bytes([0xFF, 0, 0, 0]), "continuation response")
+    r, _ = p.wait_result(1.0)
+    p.close()
+    if r != "RESULT send:DB10:DW0:LEN=200 OK":
+        raise Fail(r)
+
+
+def win_line(p, what):
+    """Send STX at once (crossing the IUT's STX, if any) and wait for its DLE:
+    the IUT has low priority and must yield (3964R initialization conflict)."""
+    p.send([STX])
+    end = time.monotonic() + 1.0
+    while True:
+        _, b = p.get(end - time.monotonic(), what)
+        if b == DLE:
+            return
+        if b != STX:
+            raise Fail("%s: got %02x" % (what, b))
+
+
+def c_a_response_before_cont(brk=None):
+    """Active SEND 200: a second response arrives before the continuation went
+    out -> 16#0A01, request ended, no continuation afterwards (A-07)."""
+    p = peer([], brk, ["send DB10:DW0:LEN=200"])
+    d = seed_data(200)
+    p.expect_block(bytes([0, 0, 0x41, 0x44, 10, 0, 0, 100, 0xFF, 0x1F]) + d[:128], 1.0, "first frame")
+    p.send_block(bytes(4), "response")
+    win_line(p, "extra response setup")
+    p.send(stuffed_block(bytes(4)))
+    p.expect([DLE], 1.0, "extra response acknowledged")
+    r, _ = p.wait_result(1.0)
+    p.silence(0.6, "no continuation after the abort")
+    p.close()
+    if r != "RESULT send:DB10:DW0:LEN=200 STATUS 16#0A01":
+        raise Fail(r)
+
+
+def c_p_pipelined(brk=None):
+    """Passive: a second command before the response to the first -> the first is
+    answered, the second gets 36h (R8.6, P-09c)."""
+    p = peer([], brk)
+    p.send_block(cmd(0x41, 0x44, 10, 0, 1) + b"\xAB\xCD", "SEND")
+    win_line(p, "second command setup")
+    p.send(stuffed_block(cmd(0x45, 0x44, 10, 0, 1)))
+    p.expect([DLE], 1.0, "second command acknowledged")
+    p.expect_block(bytes(4), 1.0, "response to the SEND")
+    p.expect_block(bytes([0, 0, 0, 0x36]), 1.0, "sync error for the second command")
+    p.close()
+    if "STATUS 16#060E" not in p.lines:
+        raise Fail("STATUS lines %s" % p.lines)
+
+
+CHECKS = [c_back_to_back, c_back_to_back_3964, c_p_fetch_300, c_p_no_db, c_p_short_send, c_p_cont_timeout, c_p_flag,
+          c_p_unsolicited, c_p_pipelined, c_a_send_200, c_a_fetch_counters, c_a_odd_send, c_a_reatels,
+          c_a_tres, c_a_quasi_duplex, c_a_response_before_cont]
 
 
 def run(brk=None, stop_at_first_fail=False):
