@@ -3,6 +3,7 @@ into a factory that gives the runner a transport for each case."""
 
 from __future__ import annotations
 
+import re
 import shutil
 import tempfile
 from typing import Any, Callable
@@ -10,7 +11,8 @@ from typing import Any, Callable
 from .base import (BREAK, CHAR_ERROR, RESTART, SETUPS, STATUS, CloseInfo, IUTDied, Transport,
                    TransportError)
 
-SCHEMES = "exec:COMMAND, pty:COMMAND (with {port}), sim:[?options], or a pyserial URL / device path"
+SCHEMES = ("exec:COMMAND, pty:COMMAND (with {port}), sim:[?options], a pyserial URL (rfc2217://HOST:PORT, "
+           "socket://HOST:PORT, ...) or a device path (/dev/ttyUSB0)")
 
 
 class Factory:
@@ -129,6 +131,29 @@ def sim_factory(procedure, options: dict[str, str] | None = None, *, readings=No
     return Factory(make, SimTransport.capabilities | caps, virtual=True)
 
 
+_SCHEME = re.compile(r"^([A-Za-z][A-Za-z0-9+.-]*):")
+
+
+def check_scheme(url: str) -> None:
+    """A URL that is none of ours and no pyserial URL (``NAME://`` with a pyserial URL
+    handler) is a typo (``exce:``), not a device: say which schemes there are."""
+    m = _SCHEME.match(url)
+    if not m:
+        return   # a device path (/dev/ttyUSB0, COM3)
+    scheme = m.group(1)
+    if url.startswith(scheme + "://"):
+        import importlib.util
+        try:
+            if importlib.util.find_spec(f"serial.urlhandler.protocol_{scheme.lower()}") is not None:
+                return
+        except (ImportError, ValueError):
+            pass
+    import difflib
+    near = difflib.get_close_matches(scheme, ["exec", "pty", "sim", "rfc2217", "socket", "loop"], n=1)
+    hint = f"did you mean {near[0]}:? " if near else ""
+    raise TransportError(f"--iut {url}: unknown scheme {scheme + ':'!r}; {hint}valid: {SCHEMES}")
+
+
 def make_factory(url: str, profile, *, prespawn: int = 2) -> Factory:
     """Turn an ``--iut`` URL into a :class:`Factory` for the IUT ``profile`` describes."""
     url = url.strip()
@@ -155,6 +180,7 @@ def make_factory(url: str, profile, *, prespawn: int = 2) -> Factory:
         except ValueError as exc:
             raise TransportError(f"{url}: {exc}") from None
         return sim_factory(proc, opts, url=url)
+    check_scheme(url)
     from .serialport import SerialTransport
     shared = SerialTransport(url, profile.line)
     shared.open()
