@@ -723,8 +723,10 @@ class Runner:
             for i, v in enumerate(vs):
                 if prepare is not None and i + 1 < len(vs):
                     # let the transport start what the next case needs while this one runs
+                    # (not for a case that will not run: its process would wait for nothing)
                     nxt = vs[i + 1]
-                    prepare(nxt, self.effective_params(nxt))
+                    if self.unsupported_reason(nxt, self.factory.capabilities) is None:
+                        prepare(nxt, self.effective_params(nxt))
                 c = self.run_case(v)
                 result.cases.append(c)
                 if progress:
