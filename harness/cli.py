@@ -48,7 +48,7 @@ def _vectors(args) -> int:
     try:
         vectors = load_vector_sets(extra, only=only)
     except VectorError as exc:
-        print(f"ptpcert: broken vector: {exc}", file=sys.stderr)
+        print(f"ptpcert vectors: {exc}", file=sys.stderr)
         return 2
     root = vector_set_label(extra, only)
     if args.select:
@@ -141,7 +141,9 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "func", None):
         ap.print_help()
         return 2
-    args.process_exits_after = True
+    # the ptpcert program itself (argv from the command line) ends with the command; a
+    # caller that hands in argv goes on in the same process (see cli_run.Interrupts)
+    args.process_exits_after = argv is None
     try:
         return args.func(args)
     except KeyboardInterrupt:
