@@ -23,6 +23,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from ptpcert.results import wire_events
 from ptpcert.runner import RunOptions, Runner
 from ptpcert.scenario import Expr, Step, Vector
 from ptpcert.transport import make_factory
@@ -59,10 +60,10 @@ def precision(scheme: str, samples: int) -> tuple[list[float], list[float], str]
     rows = [tuple(map(float, line.split()[:2])) for line in log.read_text().splitlines()]
     log.unlink()
     char = profile.params.char_time
-    echoes = [e for e in res.transcript if e.get("kind") == "byte" and e["dir"] == "iut"][1:]
+    echoes = [t for t, d, kind, _, _ in wire_events(res.transcript) if kind == "byte" and d == "iut"][1:]
     n = min(len(rows), len(echoes)) // 2 * 2
     gap_err = [((rows[k + 1][0] - rows[k][0]) - (GAP_MS / 1000 + char)) * 1000 for k in range(0, n, 2)]
-    resp_err = [((res.origin + echoes[k]["t"]) - rows[k][1]) * 1000 for k in range(n)]
+    resp_err = [((res.origin + echoes[k]) - rows[k][1]) * 1000 for k in range(n)]
     return gap_err, resp_err, res.verdict
 
 
