@@ -43,11 +43,13 @@ class ProcessFactory(Factory):
     the next case's own when the runner announces it (:meth:`prepare`) and it needs a
     command of its own (a setup, a request script). A process handed out is the caller's
     to close; one started ahead and not used within ``max_idle`` seconds is stopped and
-    replaced, and :meth:`release` stops every one started ahead (a caller that pauses, such
-    as the fuzzer between rounds), so that none outlives its use."""
+    replaced (30 s: longer than a case at the manual's default timers takes, so a run never
+    throws a process away, and a bound on how long one can wait for nothing), and
+    :meth:`release` stops every one started ahead (a caller that pauses, such as the fuzzer
+    between rounds), so that none outlives its use."""
 
     def __init__(self, cls, command: str, parmrk: bool, status: bool, prespawn: int = 2,
-                 command_for: Callable[[Any, str], str | None] | None = None, max_idle: float = 5.0):
+                 command_for: Callable[[Any, str], str | None] | None = None, max_idle: float = 30.0):
         self.cls, self.command, self.parmrk, self.status = cls, command, parmrk, status
         probe = cls(command, parmrk=parmrk, status=status)
         super().__init__(None, probe.capabilities | ({SETUPS} if command_for else frozenset()))
