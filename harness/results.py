@@ -161,7 +161,11 @@ class RunResult:
 
     @classmethod
     def read_json(cls, path: str | Path) -> "RunResult":
+        import stat
         try:
+            mode = Path(path).stat().st_mode
+            if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) or stat.S_ISSOCK(mode):   # /dev/zero: never ends
+                raise ResultsError(f"{path}: is a device, not a results file")
             raw = Path(path).read_bytes()
         except IsADirectoryError:
             raise ResultsError(f"{path}: is a directory, not a results file") from None

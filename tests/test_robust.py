@@ -78,6 +78,10 @@ def bad_inputs(root: Path) -> dict[str, tuple[list[str], list[str]]]:
                                   ["utf16.toml", "is not UTF-8 text"]),
         "profile is a directory": (["run", "--iut", "sim:", "--profile", str(root / "adir.toml")],
                                    ["adir.toml", "is a directory"]),
+        "profile is a device": (["run", "--iut", "sim:", "--profile", "/dev/zero"],
+                                ["/dev/zero", "is a device, not a profile file"]),
+        "profile missing": (["run", "--iut", "sim:", "--profile", str(root / "none.toml")],
+                            ["none.toml", "no such file"]),
         "vector UTF-16 (run)": (run + ["--vectors", vector_dir(root, "v-utf16", raw=utf16)],
                                 ["v-utf16/x.toml", "is not UTF-8 text"]),
         "vector random bytes (vectors)": (["vectors", "--dir", vector_dir(root, "v-noise", raw=noise)],
@@ -98,6 +102,7 @@ def bad_inputs(root: Path) -> dict[str, tuple[list[str], list[str]]]:
         "report, unknown verdict": (["report", str(root / "banana.json")],
                                     ["banana.json", "'banana' is not a verdict", "allowed: fail, xpass"]),
         "report, not UTF-8": (["report", str(root / "noise.json")], ["noise.json", "is not UTF-8 text"]),
+        "report on a device": (["report", "/dev/zero"], ["/dev/zero", "is a device, not a results file"]),
         "report over its own input": (["report", str(root / "good.json"), "--html", str(root / "good.json")],
                                       ["--html", "is also the results file read"]),
         # numeric options
