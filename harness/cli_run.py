@@ -179,10 +179,6 @@ def cmd_run(args) -> int:
     from .suite import check_expected_failures, load_suite
     from .transport import TransportError, make_factory
 
-    problem = report_paths_problem(args, ("junit", "json", "html"))
-    if problem:
-        print(f"ptpcert run: {problem}", file=sys.stderr)
-        return 2
     profile = _load_profile("run", args.profile)
     if profile is None:
         return 2
@@ -198,6 +194,11 @@ def cmd_run(args) -> int:
         print("ptpcert run: no case matches --select " + " ".join(args.select or [])
               + " (the HTML or JSON report of a full run lists the case ids)", file=sys.stderr)
         return 2
+    # before the first case: a run must never end without the reports it was asked for
+    problem = report_paths_problem(args, ("junit", "json", "html"))
+    if problem:
+        print(f"ptpcert run: {problem}", file=sys.stderr)
+        return 2
     result = R.RunResult(tool_version=__version__, started=_now(), iut=args.iut, procedure=profile.procedure.title,
                          profile=profile.to_dict(), profile_path=str(args.profile),
                          vector_set=vector_set_label(args.vectors, args.vectors_only), vector_set_hash=vector_set_hash(cases),
@@ -208,7 +209,7 @@ def cmd_run(args) -> int:
             print(rep.progress_line(i, n, c), flush=True)
 
     factory = None
-    startup_failure = ""
+    startup_failure = fault = ""
     with Interrupts(args) as interrupts:
         try:
             try:
@@ -229,10 +230,14 @@ def cmd_run(args) -> int:
             interrupts.disarm()
         except KeyboardInterrupt:
             result.interrupted = True
+        except Exception as exc:   # a fault of ptpcert itself: the reports still arrive, and say so
+            fault = f"harness fault: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}"
         interrupts.disarm()
         # from here on signals are only counted: the IUT is stopped and the reports written
         if startup_failure:
             mark_not_run(result, cases, R.ERROR, f"the IUT could not be started: {startup_failure}")
+        elif fault:
+            mark_not_run(result, cases, R.ERROR, f"not run: {fault}")
         elif result.interrupted:
             mark_not_run(result, cases, R.NOT_RUN, "run interrupted")
         if factory is not None:
@@ -241,15 +246,15 @@ def cmd_run(args) -> int:
         if interrupts.count:
             result.interrupted = True
         written = write_reports(result, args, "run")
-        if startup_failure:
-            print(f"ptpcert run: {' '.join(startup_failure.split())[:600]}", file=sys.stderr)
+        if startup_failure or fault:
+            print(f"ptpcert run: {' '.join((startup_failure or fault).split())[:600]}", file=sys.stderr)
         else:
             print(rep.summary(result))
         for kind in ("junit", "json", "html"):
             if getattr(args, kind) and kind in written:
                 print(f"{kind}: {getattr(args, kind)}")
         sys.stdout.flush()
-        if (startup_failure or result.interrupted or interrupts.count
+        if (startup_failure or fault or result.interrupted or interrupts.count
                 or len(written) < sum(bool(getattr(args, k)) for k in ("junit", "json", "html"))):
             return 2
     if result.counts()[R.ERROR] and result.exit_status() == 0:

@@ -438,3 +438,25 @@ def test_the_fuzzer_stops_each_iut_when_its_example_is_judged():
         assert [t for t in factory.every if t.proc.poll() is None] == []
     finally:
         factory.shutdown()
+
+
+def test_a_fault_of_ptpcert_during_the_run_still_gives_every_report(tmp_path, monkeypatch):
+    """A bug in the harness outside a case (here: the runner's loop itself raises) costs
+    neither the reports nor a traceback: the cases not reached are errors naming the fault."""
+    from ptpcert import cli_run
+    from ptpcert.runner import Runner
+
+    def broken(self, vectors, result, progress=None, max_failures=0):
+        result.cases.append(self.run_case(list(vectors)[0]))
+        raise RuntimeError("a bug in the loop")
+
+    monkeypatch.setattr(Runner, "run", broken)
+    args = Namespace(iut="sim:", profile=str(PROFILE), select=["3964R.D0*"], vectors=[], vectors_only=False,
+                     tolerance_ms=50.0, startup_timeout=2.0, edge_attempts=4, max_failures=0, quiet=True,
+                     json=str(tmp_path / "r.json"), junit=str(tmp_path / "j.xml"), html=str(tmp_path / "r.html"))
+    assert cli_run.cmd_run(args) == 2
+    data = json.loads((tmp_path / "r.json").read_text())
+    verdicts = [c["verdict"] for c in data["cases"]]
+    assert verdicts[0] == "pass" and set(verdicts[1:]) == {"error"} and len(verdicts) > 3
+    assert "harness fault: RuntimeError: a bug in the loop" in data["cases"][1]["message"]
+    assert (tmp_path / "j.xml").exists() and (tmp_path / "r.html").exists()
