@@ -212,3 +212,14 @@ def test_report_paths_are_checked_before_anything_runs(tmp_path):
     (tmp_path / "file").write_text("")
     assert "cannot be created" in R.report_path_problem(tmp_path / "file" / "r.json")
     assert "no file can be written in /proc" in R.report_path_problem("/proc/r.json")
+
+
+def test_stderr_without_end_of_line_and_a_flood_of_status_lines_stay_bounded():
+    from ptpcert.transport.base import StatusParser
+
+    sp = StatusParser()
+    for _ in range(1000):
+        sp.feed(0.0, b"x" * 65536)             # 64 MB without a newline
+    assert len(sp._partial) <= 4096 and len(sp.text) <= sp.keep
+    sp.feed(0.0, b"\nSTATUS 16#0808\n" * 10_000)
+    assert len(sp.drain()) == sp.keep_lines and sp.dropped == 10_000 - sp.keep_lines
