@@ -192,7 +192,9 @@ def test_reports_are_written_when_interrupted(tmp_path):
     assert data["interrupted"] is True
     v = list(verdicts(data).values())
     assert "not-run" in v and "pass" in v
-    assert len(ET.parse(x).getroot().findall(".//testcase")) == len(v)
+    cases = ET.parse(x).getroot().findall(".//testcase")
+    assert len(cases) == len(v) + 1          # every case, and one error testcase for the interruption
+    assert cases[-1].get("name") == "run interrupted" and cases[-1].find("error") is not None
     assert "INTERRUPTED" in out
 
 
