@@ -6,7 +6,6 @@ import datetime as _dt
 import os
 import signal
 import sys
-from pathlib import Path
 
 from . import __version__
 from .cli import number

@@ -14,7 +14,6 @@ import pytest
 from ptpcert import html as H
 from ptpcert import results as R
 from ptpcert.profile import load_profile
-from ptpcert.report import write_junit
 from ptpcert.runner import RunOptions, Runner
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
