@@ -4,9 +4,37 @@ from __future__ import annotations
 
 import argparse
 import fnmatch
+import math
+import os
 import sys
 
 from . import __version__
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with a usage error on ONE line naming the option and what is allowed (exit
+    2), instead of the usage block and a second line."""
+
+    def error(self, message: str):  # type: ignore[override]
+        self.exit(2, f"{self.prog}: {message}; see {self.prog} --help\n")
+
+
+def number(kind: type, lo: float, hi: float | None, unit: str = ""):
+    """An argparse type: a finite ``kind`` (int or float) in [lo, hi] (hi None: no upper
+    bound); the error names the range."""
+    span = f"from {lo:g} to {hi:g}" if hi is not None else f"{lo:g} or more"
+    allowed = f"allowed: {'an integer' if kind is int else 'a number'} {span}" + (f" {unit}" if unit else "")
+
+    def parse(text: str):
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number ({allowed})") from None
+        if not math.isfinite(value) or value < lo or (hi is not None and value > hi):
+            raise argparse.ArgumentTypeError(f"{text!r} is out of range ({allowed})")
+        return value
+    parse.__name__ = kind.__name__   # argparse names the type in its own messages
+    return parse
 
 
 def _vectors(args) -> int:
@@ -20,11 +48,15 @@ def _vectors(args) -> int:
     try:
         vectors = load_vector_sets(extra, only=only)
     except VectorError as exc:
-        print(f"ptpcert: broken vector: {exc}", file=sys.stderr)
+        print(f"ptpcert vectors: {exc}", file=sys.stderr)
         return 2
     root = vector_set_label(extra, only)
     if args.select:
         vectors = [v for v in vectors if any(fnmatch.fnmatchcase(v.id, g) for g in args.select)]
+        if not vectors:
+            print("ptpcert vectors: no vector matches --select " + " ".join(args.select)
+                  + f" (in {root}; 'ptpcert vectors' lists the ids)", file=sys.stderr)
+            return 2
     if not args.check:
         w = max((len(v.id) for v in vectors), default=10)
         for v in vectors:
@@ -87,7 +119,7 @@ def _model(args) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(
+    ap = Parser(
         prog="ptpcert",
         description="Conformance test suite and fuzzer for the CP 340/341/441 point-to-point "
                     "procedures 3964 / 3964R.")
@@ -127,6 +159,9 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "func", None):
         ap.print_help()
         return 2
+    # the ptpcert program itself (argv from the command line) ends with the command; a
+    # caller that hands in argv goes on in the same process (see cli_run.Interrupts)
+    args.process_exits_after = argv is None
     try:
         return args.func(args)
     except KeyboardInterrupt:
@@ -134,6 +169,13 @@ def main(argv: list[str] | None = None) -> int:
         return 130
     except BrokenPipeError:
         return 0
+    except Exception as exc:  # the last line of defence: one line, never a traceback
+        if os.environ.get("PTPCERT_DEBUG"):
+            raise
+        text = " ".join(str(exc).split())[:300]
+        print(f"ptpcert {args.command}: internal error: {type(exc).__name__}: {text} "
+              "(a fault of ptpcert; PTPCERT_DEBUG=1 shows where)", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

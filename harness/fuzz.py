@@ -591,6 +591,12 @@ class Campaign:
     def _run_vector(self, v: Vector) -> R.CaseResult:
         return self.runner.run_case(v)
 
+    def _release(self) -> None:
+        """Stop the IUT processes the transport started ahead, where it does."""
+        release = getattr(self.runner.factory, "release", None)
+        if release is not None:
+            release()
+
     @property
     def kit(self) -> "FuzzKit":
         kit = self.profile.procedure.fuzz_kit()
@@ -621,6 +627,7 @@ class Campaign:
                 if campaign._unshrunk is None and now >= end:
                     raise _BudgetOver          # generating: the budget is spent
                 if campaign._unshrunk is not None and now >= max(end, campaign._shrink_until):
+                    campaign._release()        # no IUT is needed any more in this round
                     return                     # shrinking has had its time: keep what it has
                 sim = gen(data)
                 # examples that make the IUT wait out T_BLOCK (4 s) cost more real time than
@@ -674,6 +681,8 @@ class Campaign:
                     self.findings.append(finding)
                     if self.progress:
                         self.progress(finding.describe())
+            finally:
+                self._release()   # between rounds no IUT waits: each is started for its example
             rnd += 1
             if self.progress:
                 self.progress(f"[{time.monotonic() - self.started:6.1f} s] examples {self.examples}, "

@@ -117,6 +117,10 @@ class CaseRun:
         self.rx_log: list[int] = []   # where each received byte is in the transcript
         self.pos = 0
         self.log: list[dict] = []
+        #: bytes on the line not kept in the transcript (beyond the flood limit), per side
+        self.dropped: dict[str, int] = {}
+        self.dropped_at: dict[str, tuple[float, int]] = {}
+        self.kept: dict[str, int] = {"tester": 0, "iut": 0}
         self.grade = R.PASS
         self.forced = 0.0
         self.notes: list[str] = []
@@ -134,12 +138,39 @@ class CaseRun:
 
     def _pump(self, deadline: float) -> None:
         items = self.tr.read(deadline)
-        for t, b in items:
+        limit = self.opts.flood_limit
+        room = max(0, limit - len(self.rx))
+        for t, b in items[:room]:
             self.rx.append((t, b))
             self.rx_log.append(len(self.log))
-            self.log.append({"t": self.rel(t), "dir": "iut", "kind": "byte", "byte": b, "step": self.step_index})
-        if len(self.rx) > self.opts.flood_limit:
-            raise Flood(f"the IUT sent more than {self.opts.flood_limit} bytes in one case")
+            self._record({"t": self.rel(t), "dir": "iut", "kind": "byte", "byte": b, "step": self.step_index})
+        if len(items) > room:
+            self._drop("iut", len(items) - room, items[room][0])
+            raise Flood(f"the IUT sent more than {limit} bytes in one case (the transcript keeps the first {limit})")
+
+    def _record(self, entry: dict) -> None:
+        """Log a byte, a character error or a BREAK on the line; beyond the flood limit of
+        one side, only count it (a transcript is bounded, whatever the IUT does)."""
+        d = entry["dir"]
+        if self.kept[d] >= self.opts.flood_limit:
+            self._drop(d, 1, self.t0 + entry["t"])
+            return
+        self.kept[d] += 1
+        self.log.append(entry)
+
+    def _drop(self, d: str, n: int, t: float) -> None:
+        self.dropped[d] = self.dropped.get(d, 0) + n
+        self.dropped_at.setdefault(d, (t, self.step_index))
+
+    def transcript(self) -> list[dict]:
+        """The transcript as the results keep it: bytes as runs, and a marker of what was
+        not kept."""
+        out = R.pack_transcript(self.log)
+        for d, n in self.dropped.items():
+            t, step = self.dropped_at[d]
+            out.append({"t": self.rel(t), "dir": d, "kind": "dropped", "bytes": n,
+                        "kept": self.opts.flood_limit, "step": step})
+        return out
 
     def wait_until(self, t: float) -> None:
         while self.tr.now() < t:
@@ -191,7 +222,7 @@ class CaseRun:
             target = start + k * (char + gap) + char
             self.wait_until(target)
             t = writer(b)
-            self.log.append({"t": self.rel(t), "dir": "tester", "kind": kind, "byte": b, "step": self.step_index})
+            self._record({"t": self.rel(t), "dir": "tester", "kind": kind, "byte": b, "step": self.step_index})
             late = t - target
             if late > self.tol.stimulus and t - prev > critical:
                 raise TimingFault(f"step {self.step_index + 1}: the tester's byte {k + 1} went out "
@@ -213,7 +244,7 @@ class CaseRun:
         t = self.tr.send_break(dur)
         if t - target > self.tol.stimulus and t - self.ref > 0.9 * self.shortest:
             raise TimingFault(f"step {self.step_index + 1}: BREAK went out {1000 * (t - target):.1f} ms late")
-        self.log.append({"t": self.rel(t), "dir": "tester", "kind": "break", "duration": dur, "step": self.step_index})
+        self._record({"t": self.rel(t), "dir": "tester", "kind": "break", "duration": dur, "step": self.step_index})
         self.ref = self.sent_end = t + dur
         self.wait_until(self.ref)
         self.forced += at + dur
@@ -460,7 +491,7 @@ class _CaseEndpoint(Endpoint):
         w = run.tr.write(data)
         self.last = max(self.last, w)
         for b in data:
-            run.log.append({"t": run.rel(w), "dir": "tester", "kind": "byte", "byte": b, "step": run.step_index})
+            run._record({"t": run.rel(w), "dir": "tester", "kind": "byte", "byte": b, "step": run.step_index})
         return w
 
 
@@ -649,7 +680,7 @@ class Runner:
                 res.stderr_tail = info.stderr[-2000:]
             res.notes.extend(info.notes)
         if run is not None:
-            res.transcript = run.log
+            res.transcript = run.transcript()
             try:
                 res.frames = v.proc.describe_frames(run.log, params)
             except Exception as exc:  # a decoder's fault must not cost the verdict
@@ -700,8 +731,10 @@ class Runner:
             for i, v in enumerate(vs):
                 if prepare is not None and i + 1 < len(vs):
                     # let the transport start what the next case needs while this one runs
+                    # (not for a case that will not run: its process would wait for nothing)
                     nxt = vs[i + 1]
-                    prepare(nxt, self.effective_params(nxt))
+                    if self.unsupported_reason(nxt, self.factory.capabilities) is None:
+                        prepare(nxt, self.effective_params(nxt))
                 c = self.run_case(v)
                 result.cases.append(c)
                 if progress:
