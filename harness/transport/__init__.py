@@ -41,14 +41,27 @@ class ProcessFactory(Factory):
     command of its own (a setup, a request script)."""
 
     def __init__(self, cls, command: str, parmrk: bool, status: bool, prespawn: int = 2,
-                 command_for: Callable[[Any, str], str | None] | None = None):
+                 command_for: Callable[[Any, str], str | None] | None = None,
+                 start_ahead: Callable[[Any], bool] | None = None):
         self.cls, self.command, self.parmrk, self.status = cls, command, parmrk, status
         probe = cls(command, parmrk=parmrk, status=status)
         super().__init__(None, probe.capabilities | ({SETUPS} if command_for else frozenset()))
         self.prespawn = int(prespawn)
         self._command_for = command_for
+        self._start_ahead = start_ahead
         self._ready: dict[str, list[Transport]] = {}
         self._workdir: str | None = None
+        self._plain: str | None = None
+
+    @property
+    def plain(self) -> str:
+        """The command as a case without needs of its own runs it: the template as the
+        procedure completes it (e.g. with an empty RK 512 request script)."""
+        if self._plain is None:
+            self._plain = self.command
+            if self._command_for is not None:
+                self._plain = self._command_for(None, self.workdir) or self.command
+        return self._plain
 
     @property
     def workdir(self) -> str:
@@ -59,10 +72,11 @@ class ProcessFactory(Factory):
 
     def command_for(self, vector) -> str:
         if vector is None or self._command_for is None:
-            return self.command
+            return self.plain
         cmd = self._command_for(vector, self.workdir)
         if cmd is None:
-            raise TransportError(f"case {vector.id}: the profile has no setup {vector.setup[0]!r}")
+            what = f"setup {vector.setup[0]!r}" if vector.setup else "what the case needs"
+            raise TransportError(f"case {vector.id}: the profile has no {what}")
         return cmd
 
     def _started(self, command: str) -> Transport:
@@ -74,21 +88,24 @@ class ProcessFactory(Factory):
         cmd = self.command_for(vector)
         ready = self._ready.get(cmd)
         t = ready.pop(0) if ready else self._started(cmd)
-        plain = self._ready.setdefault(self.command, [])
+        plain = self._ready.setdefault(self.plain, [])
         while len(plain) < self.prespawn:
             try:
-                plain.append(self._started(self.command))
+                plain.append(self._started(self.plain))
             except TransportError:
                 break
         return t
 
     def prepare(self, vector, params: Any) -> None:
-        """The runner's next case: start its IUT now if it needs a command of its own."""
+        """The runner's next case: start its IUT now if it needs a command of its own (and
+        may be started ahead: the procedure says)."""
+        if self._start_ahead is not None and not self._start_ahead(vector):
+            return
         try:
             cmd = self.command_for(vector)
         except TransportError:
             return
-        if cmd != self.command and not self._ready.get(cmd):
+        if cmd != self.plain and not self._ready.get(cmd):
             try:
                 self._ready.setdefault(cmd, []).append(self._started(cmd))
             except TransportError:
@@ -146,7 +163,7 @@ def make_factory(url: str, profile, *, prespawn: int = 2) -> Factory:
         def command_for(vector, workdir: str) -> str | None:
             return proc.command(cmd, vector, profile.setups, workdir)
         cls = ExecTransport if scheme == "exec" else PtyTransport
-        return ProcessFactory(cls, cmd, parmrk, status, prespawn, command_for)
+        return ProcessFactory(cls, cmd, parmrk, status, prespawn, command_for, proc.start_ahead)
     if url.startswith("sim:"):
         from .sim import parse_sim_url
         opts = parse_sim_url(url)
