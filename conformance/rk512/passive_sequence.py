@@ -63,10 +63,14 @@ def cases(c):
         iut=((), ["16#0A01"]), provenance="[S][I]"))
     # P-16: the IUT's own request starts while it serves the tester's two-frame SEND
     if "active" in p.roles:
+        # the IUT's request must start after the first frame's exchange, and the tester's
+        # continuation must still reach the IUT within its T_RES
+        first = header("A", "D", w, 0, 65) + seq_data(128)
         chars = len(link.frame(first, p.procedure)) + len(link.frame(resp(0), p.procedure)) + 4
         first_ex = chars * p.char_time + 2 * p.adt
         start_ms = math.ceil(1000 * (1.5 * first_ex + 0.1) / 10) * 10
-        if start_ms <= 600 * p.t_res:
+        rest = 60 * p.char_time + 4 * p.adt
+        if start_ms / 1000 - first_ex + rest <= 0.8 * p.t_res:
             own = "send DB10:DW0:LEN=4:DATA=0A0B0C0D"
             iut_cmd = header("A", "D", 10, 0, 2) + bytes([0x0A, 0x0B, 0x0C, 0x0D])
             out.append(case(
@@ -76,7 +80,7 @@ def cases(c):
                 "quasi-full-duplex", "both",
                 [prime(first), receive(resp(0)),
                  receive(iut_cmd, within="TRES", note=f"the IUT's request ({start_ms} ms after its start)"),
-                 prime(cont("A", "D", seq_data(72, 0x80)), note="the tester's continuation before its answer"),
+                 prime(cont("A", "D", seq_data(2, 0x80)), note="the tester's continuation before its answer"),
                  receive(resp(0, first=False)),
                  prime(resp(0), note="the tester answers the IUT's SEND")],
                 requests=[f"wait {start_ms}", own], results=[ok(label(own))],

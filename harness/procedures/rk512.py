@@ -33,13 +33,11 @@ from typing import Any, Mapping
 
 from ..model import Params3964, codec
 from ..model.params import BAUD_RATES, T_BLOCK, T_NAKTIM, ParameterError
-from ..model.rk512 import Rk512Host, Rk512Params, Rk512Station, parse_cf_set
-from ..model.rk512.codec import describe as describe_frame
-from ..model.rk512.events import RequestResult, interface_lines
-from ..model.rk512.readings import RK512_READINGS, Rk512Readings
-from ..model.rk512.requests import ScriptError, parse_script
 from ..procedure import Mutant, Procedure, ProcedureError
 from .p3964 import _CHOICES, _KEYS, _REQUIRED, LINE_DEFAULTS
+
+# The RK 512 model is imported where it is used, so that a 3964 IUT process (ptpcert iut)
+# does not load it at its start.
 
 #: the case groups, in the manual's order: the link below (§2.2.2 as RK 512 uses it), the
 #: passive side (Fig. 2-19: SEND, FETCH, header checks, sequence, monitoring time, the CPU's
@@ -54,18 +52,29 @@ GROUPS = ("link", "passive-send", "passive-fetch", "passive-header", "passive-se
 READING_NAMES = tuple(f"AMB-{i:02d}" for i in range(1, 38)) + tuple(f"N{i}" for i in range(1, 8))
 
 _LINE_FIELDS = tuple(f.name for f in fields(Params3964) if f.init and f.name != "procedure")
-_RK_FIELDS = tuple(f.name for f in fields(Rk512Params) if f.init and f.name != "line")
+_RK_FIELDS = ("link", "response_time_ms", "roles", "requests", "memory", "db_range", "dx_range", "db_bytes",
+              "byte_area_bytes", "cell_area_cells")
 _EMPTY_SCRIPT = "requests-none.txt"
 
 
-class Rk512IutHost(Rk512Host):
+def describe_frame(frame: bytes) -> str:
+    from ..model.rk512.codec import describe
+    return describe(frame)
+
+
+def iut_host(station, script="", **kw):
     """The RK 512 station with its application, reporting as an RK 512 IUT does: besides
     the STATUS lines, ``RESULT``/``FETCHED`` lines for the requests (``report_line``)."""
+    from ..model.rk512 import Rk512Host
+    from ..model.rk512.events import RequestResult, interface_lines
 
-    def report_line(self, event) -> str | None:
-        if isinstance(event, RequestResult):
-            return "\n".join(interface_lines(event))
-        return None
+    class Rk512IutHost(Rk512Host):
+        def report_line(self, event) -> str | None:
+            if isinstance(event, RequestResult):
+                return "\n".join(interface_lines(event))
+            return None
+
+    return Rk512IutHost(station, script, **kw)
 
 
 def script_lines(vector) -> list[str]:
@@ -80,6 +89,7 @@ def script_lines(vector) -> list[str]:
 
 def _setup_host_args(vector) -> dict[str, Any]:
     """The set-up of a vector as the host's arguments (cpu_stop, cf_set)."""
+    from ..model.rk512 import parse_cf_set
     out: dict[str, Any] = {"cpu_stop": False, "cf_set": []}
     if vector is None or vector.setup is None:
         return out
@@ -126,7 +136,8 @@ class Rk512(Procedure):
     def profile_keys(self) -> tuple[str, ...]:
         return tuple(_KEYS)
 
-    def params_from_profile(self, iut: dict[str, Any], tables: dict[str, dict[str, Any]]) -> Rk512Params:
+    def params_from_profile(self, iut: dict[str, Any], tables: dict[str, dict[str, Any]]):
+        from ..model.rk512 import Rk512Params
         for key in _REQUIRED:
             if key not in iut:
                 hint = f"one of {', '.join(_CHOICES[key])}" if key in _CHOICES else "required"
@@ -156,14 +167,15 @@ class Rk512(Procedure):
         except TypeError as exc:
             raise ProcedureError("rk512", str(exc)) from None
 
-    def profile_dict(self, params: Rk512Params) -> dict[str, Any]:
+    def profile_dict(self, params: Any) -> dict[str, Any]:
         line = params.line
         return {"procedure": self.names[0], **{k: getattr(line, p) for k, p in _KEYS.items()},
                 "rk512": params.to_dict()}
 
-    def params_from_table(self, raw: dict[str, Any]) -> Rk512Params:
+    def params_from_table(self, raw: dict[str, Any]):
         """A vector's [params]: the link's parameters (priority, cdt_ms, adt_ms, attempts,
         baud_rate and character frame) and the [rk512] keys, in one table."""
+        from ..model.rk512 import Rk512Params
         raw = dict(raw)
         if "procedure" in raw:
             raise ProcedureError("procedure", "RK 512 vectors name the link as link = \"3964R\" or \"3964\"")
@@ -177,7 +189,7 @@ class Rk512(Procedure):
         except TypeError as exc:
             raise ProcedureError("", str(exc)) from None
 
-    def params_table(self, params: Rk512Params) -> dict[str, Any]:
+    def params_table(self, params: Any) -> dict[str, Any]:
         d = {"link": params.link}
         line = params.line.to_dict()
         line.pop("procedure")
@@ -192,20 +204,20 @@ class Rk512(Procedure):
     def param_names(self) -> frozenset[str]:
         return frozenset(_LINE_FIELDS) | frozenset(_RK_FIELDS) | {"procedure"}
 
-    def line(self, params: Rk512Params):
+    def line(self, params: Any):
         return params.line.line
 
-    def timer_env(self, params: Rk512Params) -> dict[str, float]:
+    def timer_env(self, params: Any) -> dict[str, float]:
         return {"CDT": params.cdt, "ADT": params.adt, "CHAR": params.char_time,
                 "NAKTIM": T_NAKTIM, "BLOCK": T_BLOCK, "TRES": params.t_res}
 
-    def edge_timers(self, params: Rk512Params) -> tuple[float, ...]:
+    def edge_timers(self, params: Any) -> tuple[float, ...]:
         return (params.cdt, params.adt)
 
-    def startup_bytes(self, params: Rk512Params) -> bytes:
+    def startup_bytes(self, params: Any) -> bytes:
         return bytes((codec.NAK,))   # the link's NAK at start-up (§2.2.2)
 
-    def tester_params(self, params: Rk512Params, declared: Rk512Params | None = None) -> Rk512Params:
+    def tester_params(self, params: Any, declared: Any | None = None) -> Any:
         """A conforming partner: the other priority (§2.2.2 "Initialization conflict"), with
         the IUT's timers, unless the vector declares the tester's parameters."""
         if declared is not None:
@@ -213,7 +225,7 @@ class Rk512(Procedure):
         return params.with_(priority="high" if params.priority == "low" else "low")
 
     # -- steps ----------------------------------------------------------------------------
-    def expand(self, step, params: Rk512Params) -> list:
+    def expand(self, step, params: Any) -> list:
         """``prime``: the tester delivers the frame as a conforming 3964(R) sender (STX,
         DLE, block, DLE). ``receive``: the IUT sends the frame and the tester receives it as
         a conforming receiver: the IUT's STX in the step's window, the tester's DLE at once,
@@ -247,8 +259,9 @@ class Rk512(Procedure):
         ]
 
     # -- models ---------------------------------------------------------------------------
-    def station(self, params: Rk512Params, *, name: str = "iut", mutant: str | None = None,
-                readings: Rk512Readings | None = None, explain: bool = False) -> Rk512Station:
+    def station(self, params, *, name: str = "iut", mutant: str | None = None, readings=None,
+                explain: bool = False):
+        from ..model.rk512 import RK512_READINGS, Rk512Station
         if mutant:
             m = self.mutants().get(mutant)
             if m is None:
@@ -256,11 +269,11 @@ class Rk512(Procedure):
             return m.make(params, name=name)
         return Rk512Station(params, readings or RK512_READINGS, name=name, explain=explain)
 
-    def host(self, station: Rk512Station, *, app: str = "script", vector=None) -> Rk512IutHost:
+    def host(self, station, *, app: str = "script", vector=None):
         """The station with its application: the vector's request script (none without a
         vector: the tester's partner) and its set-up."""
         script = "\n".join(script_lines(vector))
-        return Rk512IutHost(station, script, **_setup_host_args(vector))
+        return iut_host(station, script, **_setup_host_args(vector))
 
     def apps(self) -> tuple[str, ...]:
         return ("script",)
@@ -276,23 +289,23 @@ class Rk512(Procedure):
             raise ValueError("priority must be low or high")
         return caps, options
 
-    def sim_params(self, params: Rk512Params, options: dict[str, str]) -> Rk512Params:
+    def sim_params(self, params: Any, options: dict[str, str]) -> Any:
         if "priority" in options:
             return params.with_(priority=options["priority"])
         return params
 
-    def sim_host(self, params: Rk512Params, vector, options: dict[str, str], readings=None) -> Rk512IutHost:
+    def sim_host(self, params, vector, options: dict[str, str], readings=None):
         station = self.station(params, mutant=options.get("mutant") or None, readings=readings)
         return self.host(station, vector=vector)
 
     def partner_done(self, host) -> bool:
         return host.station.idle and host.done
 
-    def echo_time_limit(self, params: Rk512Params, payloads: list[bytes]) -> float:
+    def echo_time_limit(self, params: Any, payloads: list[bytes]) -> float:
         blk = max(len(self.frame(e, params)) for e in payloads) * params.char_time
         return len(payloads) * (params.line.setup_attempts * (params.adt + blk) + 1.0) + 2.0
 
-    def frame(self, payload: bytes, params: Rk512Params) -> bytes:
+    def frame(self, payload: bytes, params: Any) -> bytes:
         return codec.frame(payload, params.procedure)
 
     # -- IUT processes --------------------------------------------------------------------
@@ -329,7 +342,8 @@ class Rk512(Procedure):
             raise ProcedureError(name, f"{text!r}: FIRST-LAST, e.g. 1-199") from None
         return (lo, hi)
 
-    def params_from_iut(self, args) -> Rk512Params:
+    def params_from_iut(self, args):
+        from ..model.rk512 import Rk512Params
         try:
             adt = getattr(args, "adt_ms", None)
             line = Params3964(
@@ -347,7 +361,8 @@ class Rk512(Procedure):
         except ParameterError as exc:
             raise ProcedureError("", str(exc)) from None
 
-    def iut_host(self, params: Rk512Params, args) -> Rk512IutHost:
+    def iut_host(self, params, args):
+        from ..model.rk512 import ScriptError, parse_cf_set, parse_script
         script = ""
         if args.requests:
             try:
@@ -365,7 +380,7 @@ class Rk512(Procedure):
             raise ProcedureError("--cf-set", str(exc)) from None
         station = self.station(params, mutant=args.mutant)
         try:
-            return Rk512IutHost(station, script, cpu_stop=args.cpu_stop, cf_set=cf)
+            return iut_host(station, script, cpu_stop=args.cpu_stop, cf_set=cf)
         except ValueError as exc:
             raise ProcedureError("--cf-set", str(exc)) from None
 
@@ -396,7 +411,7 @@ class Rk512(Procedure):
     def unsupported_reason(self, vector, profile, capabilities, factory) -> str | None:
         if profile is None:
             return None
-        p: Rk512Params = profile.params
+        p = profile.params
         role = vector.iut_role
         if role in ("receiver", "both", "idle") and "passive" not in p.roles:
             return "tests the IUT in the passive role; the profile's [rk512] roles do not include \"passive\""
@@ -440,7 +455,7 @@ class Rk512(Procedure):
         return []
 
     # -- reports --------------------------------------------------------------------------
-    def describe_frames(self, transcript: list[dict[str, Any]], params: Rk512Params) -> list[dict[str, Any]]:
+    def describe_frames(self, transcript: list[dict[str, Any]], params: Any) -> list[dict[str, Any]]:
         return decode_blocks(transcript, params.procedure == "3964R")
 
     # -- broken variants and fuzzing ------------------------------------------------------
