@@ -120,6 +120,13 @@ class Rk512Params:
             ms = default_response_time_ms(self.line.baud_rate)
         object.__setattr__(self, "t_res", ms / 1000.0)
 
+    def __getattr__(self, name: str) -> Any:
+        # the link's parameters by their names (priority, cdt_ms, setup_attempts...), so that
+        # a vector may bind them like a 3964R vector does
+        if name in _LINE_FIELDS:
+            return getattr(self.line, name)
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
     # -- the link's timing, for drivers that see only this object --------------------------
     @property
     def char_time(self) -> float:
