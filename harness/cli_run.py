@@ -262,7 +262,9 @@ def cmd_fuzz(args) -> int:
           + (f", database {args.database}" if args.database else ""))
     print(f"replay: ptpcert fuzz --iut '{args.iut}' --profile {args.profile} --seed {seed} "
           f"--settings {args.settings} --budget {args.budget:.0f}", flush=True)
-    runner = Runner(factory, profile, RunOptions(check_status=False, late_ms=50.0))
+    kit = profile.procedure.fuzz_kit()
+    check = bool(kit is not None and kit.check_reports and profile.status_from_stderr)
+    runner = Runner(factory, profile, RunOptions(check_status=check, late_ms=50.0))
     camp = Campaign(profile, runner, args.budget, seed, args.settings, args.database,
                     progress=lambda line: print(line, flush=True), max_actions=args.max_actions)
     old = signal.signal(signal.SIGTERM, _interrupt)

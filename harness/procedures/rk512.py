@@ -252,7 +252,7 @@ class Rk512(Procedure):
             Step("send", bytes([codec.DLE]), note="DLE: the tester is ready to receive"),
             Step("expect", codec.body(step.data, proc), within=Expr("CDT"), alternatives=alts,
                  alt_grade=step.alt_grade,
-                 note=f"block: {describe_frame(step.data)}"
+                 note=(f"{step.note}; " if step.note else "") + f"block: {describe_frame(step.data)}"
                       + (" (or " + " or ".join(describe_frame(a) for a in step.alternatives) + ")"
                          if step.alternatives else "") + f"; {end}"),
             Step("send", bytes([codec.DLE]), note="DLE: the tester accepts the block"),
