@@ -56,7 +56,7 @@ class RkCoSim:
     drive the vector being written: every tester byte at the time the runner sends it, every
     IUT byte taken when the runner would take it."""
 
-    def __init__(self, proc, profile, lines: list[str], readings):
+    def __init__(self, proc, profile, lines: list[str], readings, setup=None):
         from .transport import sim_factory
 
         p = profile.params
@@ -66,7 +66,8 @@ class RkCoSim:
         self.lines = list(lines)
         stub = Vector(id="FUZZ.STUB", title="", reference="", rule="", group="regression", iut_role="both",
                       params=p, steps=(Step("wait", duration=Expr("0")),), procedure=proc.id,
-                      extra={"requests": self.lines})
+                      extra={"requests": self.lines}, setup=setup)
+        self.setup = setup
         self.tr = sim_factory(proc, {"app": proc.apps()[0]}, readings=readings)(stub, p)
         self.tr.open()
         self.station = self.tr.station
@@ -119,16 +120,8 @@ class RkCoSim:
         return Expr("TRES") if d <= 0.5 * self.p.t_res else Expr(f"{1000 * d:.3f}ms + ADT")
 
     # -- the IUT's blocks and bytes --------------------------------------------------------
-    def take_block(self, dle_at: float = 0.0) -> bytes:
-        """The IUT has sent STX (not taken yet): receive its block as a conforming receiver
-        (DLE, the block, DLE) and record it as a receive step; ``dle_at``: the tester's DLE
-        that fraction of ADT after the STX (recorded byte by byte)."""
-        t_stx, _ = self.rx[self.pos]
-        self.pos += 1
-        d = t_stx - self.ref
-        self.ref = t_stx
-        self._write(bytes([DLE]), dle_at * self.p.adt)
-        t_dle = self.ref
+    def _read_body(self) -> bytes:
+        """The IUT's block after the tester's DLE, up to DLE ETX (and the BCC)."""
         raw = bytearray()
         esc = bcc_next = False
         while True:
@@ -140,29 +133,53 @@ class RkCoSim:
             raw.append(b)
             self.ref = t
             if bcc_next:
-                break
+                return bytes(raw)
             if esc:
                 esc = False
                 if b == ETX:
                     if not self.bcc:
-                        break
+                        return bytes(raw)
                     bcc_next = True
             elif b == DLE:
                 esc = True
-        self._write(bytes([DLE]))
-        frame = link.parse_body(bytes(raw), self.p.procedure)
-        after = _ms(min(0.0, d - 2 * self.char))
-        note = _rule_of(frame)
-        if dle_at:
-            self.steps += [
-                Step("expect", bytes([STX]), after=after, within=self.window(d), note="the IUT's STX"),
-                Step("send", bytes([DLE]), at=Expr(f"{dle_at}*ADT"), note=f"DLE {dle_at} ADT later"),
-                Step("expect", bytes(raw), within=Expr("CDT"), note=note),
-                Step("send", bytes([DLE]), note="DLE")]
-            del t_dle
-        else:
-            self.steps.append(Step("receive", frame, after=after, within=self.window(d), note=note))
-        return frame
+
+    def take_block(self, dle_at: float = 0.0, refuse: int = 0) -> bytes | None:
+        """The IUT has sent STX (not taken yet): receive its block as a conforming receiver
+        (DLE, the block, DLE) and record it as a receive step. ``dle_at``: the tester's DLE
+        that fraction of ADT after the STX; ``refuse``: the tester answers the first blocks
+        with NAK instead of DLE (the IUT repeats them, §2.2.2 Fig. 2-10). Returns the frame,
+        or None when the IUT gave it up."""
+        attempt = 0
+        while True:
+            t_stx, _ = self.rx[self.pos]
+            self.pos += 1
+            d = t_stx - self.ref
+            self.ref = t_stx
+            self._write(bytes([DLE]), dle_at * self.p.adt)
+            raw = self._read_body()
+            frame = link.parse_body(raw, self.p.procedure)
+            no = attempt < refuse
+            self._write(bytes([NAK if no else DLE]))
+            after = _ms(min(0.0, d - 2 * self.char))
+            note = _rule_of(frame)
+            if dle_at or refuse:
+                self.steps += [
+                    Step("expect", bytes([STX]), after=after, within=self.window(d), note="the IUT's STX"),
+                    Step("send", bytes([DLE]), at=Expr(f"{dle_at}*ADT") if dle_at else Expr("0"),
+                         note=f"DLE {dle_at} ADT later" if dle_at else "DLE"),
+                    Step("expect", raw, within=Expr("CDT"), note=note),
+                    Step("send", bytes([NAK if no else DLE]), note="NAK: the tester refuses the block" if no else "DLE")]
+            else:
+                self.steps.append(Step("receive", frame, after=after, within=self.window(d), note=note))
+            if not no:
+                return frame
+            attempt += 1
+            nb = self._peek(self.ref + 2 * self.p.adt + 10 * self.char)
+            if nb is None:
+                return None
+            if nb[1] != STX:
+                self.take_bytes()          # the sender gives up: its NAK (§2.2.2 Fig. 2-10)
+                return None
 
     def take_bytes(self) -> bytes:
         """Bytes of the IUT that are not a block (a NAK of the link...): taken as they come,
@@ -233,6 +250,16 @@ class _Request:
         return self.data[k * CHUNK:(k + 1) * CHUNK]
 
 
+def _fill(kind: str, seed: int, n: int) -> bytes:
+    """SEND data: all DLEs, control characters mixed in (DLE, STX, ETX, NAK, 00, FF), or a ramp."""
+    if kind == "dle":
+        return bytes([0x10]) * n
+    if kind == "mixed":
+        alphabet = (0x10, 0x00, 0xFF, 0x02, 0x41, 0x03, 0x15)
+        return bytes(alphabet[(seed + 3 * i + (i * i) % 7) % len(alphabet)] for i in range(n))
+    return bytes((seed + 7 * i) & 0xFF for i in range(n))
+
+
 def _hdr(cmd: int, typ: int, b5: int, b6: int, length: int, b9: int = 0xFF, b10: int = 0x1F) -> bytes:
     return bytes([0, 0, cmd, typ, b5, b6, (length >> 8) & 0xFF, length & 0xFF, b9, b10])
 
@@ -255,13 +282,14 @@ class RkGenerator:
         self.active = "active" in p.roles and p.requests == "script"
         self.passive = "passive" in p.roles
         self.pattern = p.memory == "pattern"
+        self.flags: list[tuple[int, int]] = []
 
     # -- what the tester may address ----------------------------------------------------------
     def _db(self, data, dx: bool = False) -> int:
         lo, hi = self.p.dx_range if dx else self.p.db_range
         return data.draw(st.integers(lo, min(hi, lo + 20)), label="block number")
 
-    def _valid_command(self, data) -> _Request:
+    def _valid_command(self, data, single: bool = False) -> _Request:
         p = self.p
         types = "D" + ("X" if p.dx_range else "") + ("EAMTZ" if self.pattern else "")
         fetch = self.pattern and data.draw(st.booleans(), label="fetch")
@@ -272,7 +300,8 @@ class RkGenerator:
             size = 2 * p.cell_area_cells
         else:
             size = p.byte_area_bytes
-        n = data.draw(st.sampled_from([s for s in SIZES if s <= min(size, 1024)] or [2]), label="bytes")
+        n = data.draw(st.sampled_from([s for s in SIZES if s <= min(size, 1024) and (s <= CHUNK or not single)]
+                                      or [2]), label="bytes")
         words = typ in "DXTZ"
         if words and n % 2:
             n += 1
@@ -287,9 +316,12 @@ class RkGenerator:
             b5, b6 = addr >> 8, addr & 0xFF
         length = n // 2 if words else n
         cmd = 0x45 if fetch else (0x4F if typ == "X" else 0x41)
-        hdr = _hdr(cmd, ord("D") if not fetch and typ == "X" else ord(typ), b5, b6, length)
-        payload = b"" if fetch else bytes(data.draw(st.lists(st.sampled_from([0x10, 0x00, 0xFF, 0x02, 0x41, 0x03]),
-                                                             min_size=n, max_size=n), label="data"))
+        b9, b10 = 0xFF, 0x1F
+        if self.flags and data.draw(st.booleans(), label="name a flag"):
+            b9, b10 = data.draw(st.sampled_from(self.flags), label="flag")
+        hdr = _hdr(cmd, ord("D") if not fetch and typ == "X" else ord(typ), b5, b6, length, b9, b10)
+        payload = b"" if fetch else _fill(data.draw(st.sampled_from(["dle", "mixed", "ramp"]), label="data"),
+                                            data.draw(st.integers(0, 255), label="data seed"), n)
         return _Request(hdr, fetch, payload if not fetch else bytes(n))
 
     def _script(self, data) -> list[str]:
@@ -317,7 +349,16 @@ class RkGenerator:
     # -- one example ----------------------------------------------------------------------
     def __call__(self, data) -> "RkExample":
         lines = self._script(data)
-        sim = RkCoSim(self.proc, self.profile, lines, self.readings)
+        setups = [None] * 6
+        if "cpu_stop" in self.profile.setups:
+            setups.append(("cpu_stop", {}))
+        if "flag_set" in self.profile.setups and self.p.byte_area_bytes > 12:
+            setups.append(("flag_set", {"flag": "12.3", "reset_ms": int(3000 * self.p.t_res)}))
+        setup = data.draw(st.sampled_from(setups), label="set-up")
+        self.flags = [(3, 0x15)] if self.p.byte_area_bytes > 3 else []
+        if setup and setup[0] == "flag_set":
+            self.flags.append((12, 0x13))
+        sim = RkCoSim(self.proc, self.profile, lines, self.readings, setup)
         ex = RkExample(sim, self)
         ex.react(data)
         n = data.draw(st.integers(1, self.max_actions), label="actions")
@@ -361,8 +402,17 @@ class RkExample:
                 sim.quiet_for(q, Expr(f"{1000 * q:.3f}ms") if quiet is not None else Expr("2*ADT + 10*CHAR"))
                 return
             if nb[1] == STX:
-                slow = data is not None and data.draw(st.sampled_from([0.0, 0.0, 0.0, 0.5]), label="DLE after")
-                self._iut_frame(sim.take_block(slow or 0.0))
+                how = "dle" if data is None else data.draw(
+                    st.sampled_from(["dle"] * 6 + ["slow-dle", "refuse-once", "refuse-all", "cross"]), label="answer STX")
+                if how == "cross" and self.owed is None and self.gen.passive:
+                    self._cross(data)
+                    continue
+                refuse = {"refuse-once": 1, "refuse-all": self.p.line.transmission_attempts}.get(how, 0)
+                frame = sim.take_block(0.5 if how == "slow-dle" else 0.0, refuse)
+                if frame is not None:
+                    self._iut_frame(frame)
+                elif self.theirs is not None and self.owed is None:
+                    self.theirs = None       # its request ended with the link's failure
             else:
                 sim.take_bytes()
 
@@ -556,8 +606,8 @@ class RkExample:
         g = self.gen
         kinds = ["wait"]
         if g.passive:
-            kinds += ["command", "command", "command", "header", "header", "header", "length", "chunk", "class",
-                      "short", "dle", "bcc" if p.procedure == "3964R" else "dle", "gap", "crossing"]
+            kinds += ["command", "command", "command", "header", "header", "header", "area", "area", "length",
+                      "chunk", "class", "short", "dle", "bcc" if p.procedure == "3964R" else "dle", "gap", "crossing"]
         kind = data.draw(st.sampled_from(kinds), label="idle action")
         if kind == "wait":
             frac = data.draw(st.sampled_from([0.3, 1.5]), label="wait")
@@ -582,6 +632,8 @@ class RkExample:
                                                                 0x58, 0x5A, 0x54]), st.integers(0, 255)),
                                      label="header value")
             frame = bytes(frame)
+        elif kind == "area":
+            frame = self._area_error(data)
         elif kind == "length":
             delta = data.draw(st.sampled_from([-2, -1, 1, 2]), label="data delta")
             frame = frame + bytes(delta) if delta > 0 else frame[:max(10, len(frame) + delta)]
@@ -614,6 +666,72 @@ class RkExample:
             return self._crossing(data, req, frame)
         if self._frame_out(frame):
             self.react()
+
+    def _cross(self, data) -> None:
+        """The IUT's STX is answered by the tester's own STX: an initialization conflict
+        (§2.2.2 Fig. 2-8) while the IUT has a frame to send. Low priority, the IUT yields and
+        takes the tester's command first; high, it waits for the tester to yield."""
+        sim = self.sim
+        t_stx, _ = sim.rx[sim.pos]
+        sim.pos += 1
+        d = t_stx - sim.ref
+        sim.ref = t_stx
+        sim.steps.append(Step("expect", bytes([STX]), after=_ms(min(0.0, d - 2 * sim.char)), within=sim.window(d),
+                              note="the IUT's STX"))
+        req = self.gen._valid_command(data, single=True)
+        self._note_areas(req)
+        frame = req.hdr + (req.data if not req.fetch else b"")
+        sim.send(bytes([STX]), note="the tester's STX crosses it (an initialization conflict)")
+        if self.p.priority == "low":
+            nb = sim._peek(sim.ref + 2 * self.p.adt)
+            if nb is None or nb[1] != DLE:
+                reject()
+            sim.take_bytes()
+            sim.steps[-1] = Step("expect", bytes([DLE]), within=Expr("ADT"),
+                                 note="§2.2.2 Fig. 2-8: the IUT (low) yields and answers the tester's STX")
+            sim.send(link.body(frame, self.p.procedure), note=f"the tester sends {describe(frame)}")
+            nb = sim._peek(sim.ref + 2 * self.p.adt)
+            if nb is None or nb[1] != DLE:
+                reject()
+            sim.take_bytes()
+            self.awaiting = True
+            return
+        if not sim.quiet_for(0.25 * self.p.adt, Expr("0.25*ADT")):
+            reject()
+        sim.steps[-1] = Step("silence", duration=Expr("0.25*ADT"),
+                             note="§2.2.2 Fig. 2-8: the IUT (high) does not answer the tester's STX")
+        sim.send(bytes([DLE]), note="the tester (low) yields")
+        raw = sim._read_body()
+        f = link.parse_body(raw, self.p.procedure)
+        sim.steps.append(Step("expect", raw, within=Expr("CDT"), note=_rule_of(f)))
+        sim.send(bytes([DLE]), note="DLE")
+        self._iut_frame(f)
+        self._start_own(data, req)
+
+    def _area_error(self, data) -> bytes:
+        """A command whose area does not fit the IUT's memory: a missing DB or DX, DB 0, a start
+        address or a length beyond the area, length 0, over 1024 bytes."""
+        p = self.p
+        lo, hi = p.db_range
+        which = data.draw(st.sampled_from(["db-missing", "db0", "dx-missing", "beyond", "length0", "too-long",
+                                           "over-1k"]), label="area error")
+        fetch = data.draw(st.booleans(), label="fetch")
+        cmd = 0x45 if fetch else 0x41
+        if which == "db-missing" and hi < 255:
+            return _hdr(cmd, 0x44, hi + 1, 0, 1) + (b"" if fetch else bytes(2))
+        if which == "dx-missing":
+            return _hdr(0x45 if fetch else 0x4F, 0x58 if fetch else 0x44, (p.dx_range[1] + 1) if p.dx_range and
+                        p.dx_range[1] < 255 else 0, 0, 1) + (b"" if fetch else bytes(2))
+        if which == "beyond":
+            size = p.byte_area_bytes
+            return _hdr(0x45, 0x45, (size >> 8) & 0xFF, size & 0xFF, 2)
+        if which == "length0":
+            return _hdr(cmd, 0x44, lo, 0, 0)
+        if which == "too-long":
+            return _hdr(0x45, 0x44, lo, 0, p.db_bytes // 2 + 1)
+        if which == "over-1k":
+            return _hdr(0x45, 0x44, lo, 0, 513)
+        return _hdr(cmd, 0x44, 0, 0, 1) + (b"" if fetch else bytes(2))
 
     def _has_db(self, n: int) -> bool:
         lo, hi = self.p.db_range
@@ -708,7 +826,7 @@ class RkExample:
             id=vid, title=title, reference="§2.2.3; Figs. 2-13 to 2-19; Tables 2-1, 2-2, 8-3 (generated by ptpcert fuzz)",
             rule=rule, group="regression", iut_role="both" if sim.lines else "receiver", params=p,
             steps=tuple(sim.steps), expected=Expected(StatusSpec(required, optional), StatusSpec()),
-            provenance="[fuzz]", procedure="rk512", extra=extra,
+            provenance="[fuzz]", procedure="rk512", extra=extra, setup=sim.setup,
             binds=("link", "priority", "cdt_ms", "adt_ms", "setup_attempts", "transmission_attempts",
                    "baud_rate", "data_bits", "parity", "stop_bits", "response_time_ms", "db_bytes",
                    "byte_area_bytes", "cell_area_cells", "db_range", "dx_range", "memory"),
