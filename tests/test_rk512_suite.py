@@ -180,6 +180,17 @@ flag_set = "--cf-set {flag}@{reset_ms}"
     assert prof.params.line.adt_ms == 2000 and prof.setups["flag_set"].startswith("--cf-set")
 
 
+def test_the_bundled_rk512_profile_is_read_and_runs_the_whole_suite_in_sim():
+    from ptpcert.paths import bundled_profiles
+    from ptpcert.profile import profile_from_dict
+    import tomllib
+    raw = tomllib.loads(bundled_profiles().joinpath("rk512-reference.toml").read_text("utf-8"))
+    prof = profile_from_dict(raw)
+    assert prof.procedure is RK and prof.params.t_res == 1.0 and set(prof.setups) == {"cpu_stop", "flag_set"}
+    res = run("sim:", prof)
+    assert not [c.id for c in res.cases if c.verdict not in OK + (R.UNSUPPORTED,)]
+
+
 @pytest.mark.parametrize("change,key", [
     (lambda d: d["rk512"].update(link="3964X"), "rk512.link"),
     (lambda d: d["rk512"].update(db_bytes=7), "rk512.db_bytes"),
