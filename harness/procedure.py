@@ -214,6 +214,20 @@ class Procedure:
             words = words.replace("{" + k + "}", str(v))
         return f"{template} {words}"
 
+    def start_ahead(self, vector: Any) -> bool:
+        """Whether the IUT process of ``vector``'s case may be started while the previous
+        case runs. Not where the IUT acts on its own from its start (RK 512's request
+        script, a coordination flag cleared a time after the start): it must start with its
+        case."""
+        return True
+
+    def unsupported_reason(self, vector: Any, profile: Any, capabilities: frozenset[str],
+                           factory: Any) -> str | None:
+        """Why ``vector`` cannot run against the IUT ``profile`` describes (None: it can),
+        beyond what the runner checks for every procedure: e.g. a role or a memory area the
+        IUT does not have."""
+        return None
+
     def judge_reports(self, vector: Any, lines: list[str]) -> list[str]:
         """Problems with what the IUT reported on stderr beyond STATUS (e.g. RK 512's RESULT
         lines); empty: acceptable."""

@@ -129,7 +129,7 @@ class P3964(Procedure):
         proc = params.procedure
         note = step.note or f"the tester delivers {codec.hexstr(step.data)} as a conforming sender"
         return [
-            Step("send", bytes([codec.STX]), note=f"STX ({note})"),
+            Step("send", bytes([codec.STX]), at=step.at, note=f"STX ({note})"),
             Step("expect", bytes([codec.DLE]), within=Expr("ADT"), note="DLE: setup acknowledged"),
             Step("send", codec.body(step.data, proc), note="block: data, DLE ETX" + (", BCC" if proc == "3964R" else "")),
             Step("expect", bytes([codec.DLE]), within=Expr("ADT"), note="DLE: block acknowledged"),
