@@ -93,7 +93,8 @@ def status(required=(), optional=()) -> StatusSpec:
 def case(p: Params3964, id: str, title: str, reference: str, rule: str, group: str, role: str,
          steps: list[Step], *, iut=((), ()), tester=((), ()), delivered=(), sent=(), echo_after=(),
          requires=(), readings=(), start: str = "idle", provenance: str = "", notes: str = "",
-         tester_params: Params3964 | None = None, timing_sensitive: bool = False) -> Vector:
+         tester_params: Params3964 | None = None, timing_sensitive: bool = False, rules=(),
+         setup=None) -> Vector:
     return Vector(
         id=f"SUITE.{id}", title=title, reference=reference, rule=rule, group=group, iut_role=role,
         params=p, steps=tuple(steps),
@@ -101,7 +102,8 @@ def case(p: Params3964, id: str, title: str, reference: str, rule: str, group: s
                           tuple(h(x) for x in sent), tuple(h(x) for x in echo_after)),
         start=start, requires=frozenset(requires), readings=tuple(readings), provenance=provenance,
         notes=notes, source=f"conformance/{group}", binds=(), tester_params=tester_params,
-        timing_sensitive=timing_sensitive or group in ("timing", "conflict"),
+        timing_sensitive=timing_sensitive or group in ("timing", "conflict"), rules=tuple(rules),
+        setup=setup,
     )
 
 
