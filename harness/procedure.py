@@ -234,6 +234,16 @@ class Procedure:
         from .rules import for_procedure
         return for_procedure(self.id)
 
+    def rule_settings(self) -> list[tuple[str, dict[str, Any], dict[str, Any]]]:
+        """The IUT settings the traceability matrix is computed for, each as (label, the
+        values of the catalogue's dimensions, a complete profile ``[iut]`` table): a rule that
+        applies to a setting needs a case in the suite generated for it."""
+        return []
+
+    def setting_values(self, params: Any) -> dict[str, Any]:
+        """The values of the catalogue's dimensions for an IUT with ``params``."""
+        return {}
+
     # -- broken variants and fuzzing ------------------------------------------------------
     def mutants(self) -> Mapping[str, Mutant]:
         return {}
