@@ -21,7 +21,7 @@ LINE_DEFAULTS = {"baud_rate": 9600, "data_bits": 8, "parity": "even", "stop_bits
 _CHOICES = {"priority": ("low", "high"), "parity": ("none", "odd", "even")}
 _KEY_OF = {v: k for k, v in _KEYS.items()}
 
-GROUPS = ("start-up", "idle", "receive", "send", "release", "repetition", "conflict",
+GROUPS = ("start-up", "character-frame", "idle", "receive", "send", "release", "repetition", "conflict",
           "break", "character-error", "timing", "regression")
 
 
