@@ -32,7 +32,8 @@ def cases(p):
                 "A low-priority station that receives STX while waiting for its setup DLE defers its job, answers DLE, receives the block, and then sets up its own connection again.",
                 "conflict", "both", steps,
                 iut=((), ["16#0709"] if p.setup_attempts < 2 else ()),
-                delivered=[own, theirs], sent=[own] if p.setup_attempts >= 2 else [], echo_after=[theirs],
+                delivered=[own, theirs], sent=[own] if p.setup_attempts >= 2 else [],
+                echo_after=[theirs] if p.setup_attempts >= 2 else [],   # else the partner step takes it
                 requires=ECHO, readings=["A8", "A21"], provenance="[S][F]",
                 rules=["3964.CONFLICT.LOW-DEFERS"] + (["3964.CONFLICT.LOW-RESUMES"] if p.setup_attempts >= 2 else [])))
     if p.priority == "low" and p.setup_attempts >= 2:
