@@ -14,12 +14,13 @@ from typing import Any
 
 from . import results as R
 from .report import anchor
-from .rules import Catalogue, catalogues
+from .rules import DIMENSIONS, Catalogue, catalogues
 
 #: worst first: the verdict a rule gets from the cases that cite it
 _WORST = (R.FAIL, R.XPASS, R.ERROR, R.NON_STRICT, R.INFORMATIONAL, R.PASS, R.XFAIL, R.UNSUPPORTED, R.NOT_RUN)
 NOT_CHECKED = "not run"
 UNTESTABLE = "untestable"
+NOT_APPLICABLE = "does not apply"
 
 
 def esc(s: Any) -> str:
@@ -45,17 +46,22 @@ def catalogue_for(run: R.RunResult) -> Catalogue | None:
 
 
 def rule_verdicts(run: R.RunResult, catalogue: Catalogue) -> dict[str, tuple[str, list[R.CaseResult]]]:
-    """Each rule's verdict in this run and the cases that cite it."""
+    """Each rule's verdict in this run and the cases that cite it: the worst verdict of those
+    cases; "untestable"; "does not apply" (to the profile's procedure, priority or frame); or
+    "not run" (no case of this run cites it)."""
     by_rule: dict[str, list[R.CaseResult]] = {r.id: [] for r in catalogue}
     for c in run.cases:
         for rid in c.rules:
             if rid in by_rule:
                 by_rule[rid].append(c)
+    setting = {k: run.profile[k] for k in DIMENSIONS if k in (run.profile or {})}
     out = {}
     for rule in catalogue:
         cases = by_rule[rule.id]
         if not rule.testable:
             out[rule.id] = (UNTESTABLE, cases)
+        elif not rule.applies_to(setting) and all(c.verdict in (R.UNSUPPORTED, R.NOT_RUN) for c in cases):
+            out[rule.id] = (NOT_APPLICABLE, cases)
         elif not cases:
             out[rule.id] = (NOT_CHECKED, cases)
         else:
@@ -73,7 +79,7 @@ def traceability_section(run: R.RunResult) -> str:
     counts: dict[str, int] = {}
     for verdict, _ in verdicts.values():
         counts[verdict] = counts.get(verdict, 0) + 1
-    order = list(_WORST) + [NOT_CHECKED, UNTESTABLE]
+    order = list(_WORST) + [NOT_CHECKED, NOT_APPLICABLE, UNTESTABLE]
     summary = " ".join(f"{_badge(v)} {counts[v]}" for v in order if counts.get(v))
     rows = []
     for rule in cat:
@@ -81,6 +87,8 @@ def traceability_section(run: R.RunResult) -> str:
         scope = f" <i>({esc(rule.scope())})</i>" if rule.scope() else ""
         if verdict == UNTESTABLE:
             checked = f"<i>untestable: {esc(rule.untestable)}</i>"
+        elif verdict == NOT_APPLICABLE:
+            checked = f"<i>does not apply to this IUT's settings (only {esc(rule.scope())})</i>"
         elif not cases:
             checked = "<i>no case of this run cites it (deselected, or not for this IUT's settings)</i>"
         else:

@@ -480,7 +480,8 @@ def test_traceability_section_gives_each_rule_this_runs_verdict():
     from ptpcert.rules import for_procedure
 
     cat = for_procedure("3964r")
-    run = R.RunResult(tool_version="t", started="", procedure="3964/3964R")
+    run = R.RunResult(tool_version="t", started="", procedure="3964/3964R",
+                      profile={"procedure": "3964R", "priority": "low", "data_bits": 8})
     run.cases = [
         R.CaseResult("SUITE.A", "passes", "§1", "r.", "idle", "idle", verdict=R.PASS, rules=["3964.IDLE.STRAY-NAK"]),
         R.CaseResult("SUITE.B", "fails", "§1", "r.", "idle", "idle", verdict=R.FAIL,
@@ -492,6 +493,7 @@ def test_traceability_section_gives_each_rule_this_runs_verdict():
     assert v["3964.IDLE.STRAY-NAK"][0] == R.FAIL and [c.id for c in v["3964.IDLE.STRAY-NAK"][1]] == ["SUITE.A", "SUITE.B"]
     assert v["3964.START.NAK"][0] == R.FAIL and v["3964.RX.LENGTH"][0] == R.NON_STRICT
     assert v["3964.RX.ACK"][0] == "not run" and v["3964.FRAME.INTERFACE"][0] == "untestable"
+    assert v["3964.RX.ANSWER-AT-ETX"][0] == "does not apply"   # 3964 only; this IUT is 3964R
     section = traceability_section(run)
     assert 'id="traceability"' in section and "3964.IDLE.STRAY-NAK" in section
     assert '<a href="#' in section and "A17" in section and "docs/readings.md" in section
