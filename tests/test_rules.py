@@ -82,3 +82,26 @@ def test_vectors_cite_rule_ids_of_their_procedures_catalogue():
         with pytest.raises(VectorError, match=fragment) as e:
             vector_from_dict({**BASE, "rules": [bad] if isinstance(bad, str) else bad})
         assert e.value.field == "rules"
+
+
+def test_every_open_point_is_documented_in_docs_readings_and_linked_from_the_readme():
+    from pathlib import Path
+    root = Path(__file__).resolve().parent.parent
+    doc = (root / "docs" / "readings.md").read_text("utf-8")
+    for a in CAT.readings:
+        assert f"### {a}. " in doc, f"{a} has no section in docs/readings.md"
+    assert "](docs/readings.md)" in (root / "README.md").read_text("utf-8")
+    for text in (doc, (root / "README.md").read_text("utf-8"), (root / "vectors" / "README.md").read_text("utf-8")):
+        assert "3964r.md" not in text and "../shared" not in text
+
+
+def test_nothing_users_have_cites_our_notes():
+    from pathlib import Path
+    root = Path(__file__).resolve().parent.parent
+    files = [*(root / "harness").rglob("*.py"), *(root / "harness").rglob("*.toml"), *(root / "conformance").rglob("*.py"),
+             *(root / "vectors").rglob("*.toml"), root / "README.md", root / "vectors" / "README.md",
+             *(root / "docs").glob("*.md")]
+    for f in files:
+        text = f.read_text("utf-8")
+        for note in ("3964r.md", "status-codes.md", "rk512.md", "ascii.md", "../shared", "/work/shared"):
+            assert note not in text, f"{f.relative_to(root)} cites {note}"
