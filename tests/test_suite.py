@@ -90,7 +90,9 @@ def ptpcert_run(tmp_path, iut, profile, *extra):
     prof = tmp_path / "p.toml"
     d = profile.to_dict()
     d.pop("expected_failures")
-    lines = ["[iut]"] + [f"{k} = {json.dumps(v)}" for k, v in d.items()] + ["[expected_failures]"]
+    setups = d.pop("setups")
+    lines = (["[iut]"] + [f"{k} = {json.dumps(v)}" for k, v in d.items()]
+             + ["[iut.setups]"] + [f"{k} = {json.dumps(v)}" for k, v in setups.items()] + ["[expected_failures]"])
     prof.write_text("\n".join(lines) + "\n")
     j = tmp_path / "r.json"
     p = subprocess.run([PY, "-m", "ptpcert.cli", "run", "--iut", iut, "--profile", str(prof), "--json", str(j), "-q",
@@ -110,7 +112,7 @@ def reference_iut(profile, scheme="exec", mutant=None):
                                                ("3964", "high", "pty")])
 @pytest.mark.realtime
 def test_full_suite_passes_the_real_time_reference(tmp_path, proc, prio, scheme):
-    prof = reference_profile(procedure=proc, priority=prio)
+    prof = reference_profile(procedure=proc, priority=prio, setups={"no_buffer": "--buffer full"})
     p, data = ptpcert_run(tmp_path, reference_iut(prof, scheme), prof)
     bad = {c["id"]: c["message"] for c in data["cases"] if c["verdict"] in ("fail", "error", "xpass")}
     assert p.returncode == 0 and not bad, bad

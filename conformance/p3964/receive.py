@@ -288,7 +288,7 @@ def cases(p):
                   send(bytes([bcc_r]), note=f"the partner's BCC ({bcc_r:02X}): a stray character now"),
                   partner("40*ADT + 40*CDT + 2s",
                                "the tester, a 3964R station, answers whatever follows (the IUT's echo)")],
-                 iut=((), ["16#0802", "16#0702", "16#0703", "16#0706", "16#0707", "16#0701", "16#0709", "16#070A"]),
+                 iut=((), ["16#0802", "16#0702", "16#0703", "16#0704", "16#0706", "16#0707", "16#0701", "16#0709", "16#070A"]),
                  delivered=[b"\x31\x32"], tester_params=p.with_(procedure="3964R",
                                                                 priority="high" if p.priority == "low" else "low"),
                  provenance="[I]", rules=["3964.RX.STRAY-AFTER-ANSWER"]),

@@ -81,7 +81,7 @@ def _mixed(p):
         steps.append(send(DLE))
         if kind == "NAK during the data":
             steps += [expect(L[:10], within="CDT"), send(NAK, note="NAK during the data"),
-                      expect(B[10:], partial=True, within="4*CHAR", note="the IUT stops")]
+                      expect(B[10:], partial=True, after="-20*CHAR", within="4*CHAR", note="the IUT stops")]
         else:
             steps.append(expect(B, within="CDT"))
             if kind == "NAK after the block":

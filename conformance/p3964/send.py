@@ -14,7 +14,7 @@ def _echo_case(p, id, title, payload, rule, rules, ref=SEND_REF, max_gap="CDT", 
                 delivered=[payload], sent=[payload], requires=ECHO, provenance=provenance, rules=rules)
 
 
-def _interrupted(p, id, title, ref, rule, stimulus, rules, *, note, readings=("A7",), quiet=None, stop_after="0"):
+def _interrupted(p, id, title, ref, rule, stimulus, rules, *, note, readings=("A7",), quiet=None, stop_after="-20*CHAR"):
     """The IUT sends a 64-byte block; after its first 10 data bytes the tester sends
     ``stimulus`` (steps); the IUT stops, waits for CDT of quiet, sends NAK and begins again."""
     L = long_payload(p)
@@ -137,7 +137,7 @@ def cases(p):
              "send", "sender",
              [prime(L), expect(STX, within=RETRY), send(DLE), expect(L[:10], within="CDT", note="the first 10 data bytes"),
               send(NAK, note="NAK in the middle of the block"),
-              expect(rest, partial=True, within="4*CHAR", note="the IUT stops"),
+              expect(rest, partial=True, after="-20*CHAR", within="4*CHAR", note="the IUT stops"),
               expect(STX, within=RETRY, note="new STX, no NAK before it")] + echo_send(L, p)[1:],
              iut=((), ["16#0704", "16#0701"]), delivered=[L], sent=[L], requires=ECHO, readings=["A8"],
              provenance="[S]", rules=["3964.TX.DATA-NAK"]),
@@ -174,7 +174,7 @@ def cases(p):
              "A NAK during the data is a failed transmission attempt; after the last the sender sends NAK (16#070A).",
              "send", "sender",
              [prime(L)] + sum(([expect(STX, within=RETRY, note=f"attempt {i + 1}"), send(DLE), expect(L[:10], within="CDT"),
-                                send(NAK), expect(rest, partial=True, within="4*CHAR")] for i in range(M)), [])
+                                send(NAK), expect(rest, partial=True, after="-20*CHAR", within="4*CHAR")] for i in range(M)), [])
              + [expect(NAK, within=RETRY, note="the sender's NAK")],
              iut=(["16#0704|16#070A"], ["16#0701"]), delivered=[L], requires=ECHO, readings=["A8", "A9"],
              provenance="[S][I]", rules=["3964.TX.ATTEMPTS", "3964.TX.FINAL-NAK"]),
