@@ -144,6 +144,14 @@ def test_partner_gave_up_other_readings():
     assert len(naks) == 2 and {c.verdict for c in naks.values()} == {R.INFORMATIONAL}
 
 
+def test_deferred_job_lost_to_a_break_is_informational():
+    # A21: whether a deferred job survives a failed conflict reception is open
+    got = run(standins.factory(standins.DropsDeferredOnBreak), select=["SUITE.CONFLICT.LOW-RECEPTION-BROKEN-BY-BREAK"])
+    assert [c.verdict for c in got.values()] == [R.INFORMATIONAL]
+    kept = run(sim_factory(PROC, {}), select=["SUITE.CONFLICT.LOW-RECEPTION-BROKEN-BY-BREAK"])
+    assert [c.verdict for c in kept.values()] == [R.PASS]
+
+
 def test_3964_receiver_answering_after_half_the_cdt():
     # the manual sets no deadline for the answer at DLE ETX; before CDT shows that the
     # receiver did not wait for a BCC

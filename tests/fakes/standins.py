@@ -156,6 +156,15 @@ class NaksPartnersNak(Station3964):
     TABLE[T.WAIT_REPETITION][T.NAK] = T.Row("start_quiet_wait", T.IDLE_JUNK)
 
 
+class DropsDeferredOnBreak(Station3964):
+    """A21: a BREAK during a conflict reception ends the deferred job too (as the
+    independent implementation of tests/independent reads it)."""
+
+    def _a_abandon_reception(self, v):
+        self.deferred = None
+        super()._a_abandon_reception(v)
+
+
 class SendsEmpty(Station3964):
     """Takes a job without data: the echo of an empty block is STX, DLE ETX [BCC]."""
 
