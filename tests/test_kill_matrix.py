@@ -78,3 +78,23 @@ def test_every_variant_made_for_a_case_is_registered_with_a_manual_reference():
     for mutant in set(KILLS.values()):
         rule = MUTANTS[mutant].rule
         assert "§" in rule or "Fig." in rule or "Table" in rule
+
+
+REAL_TIME = ["dle-pair-rescanned", "break-ignored-waiting-for-etx", "setup-counter-never-reset",
+             "stray-nak-per-character", "partner-stx-refuses-setup", "receive-counter-never-reset"]
+
+
+@pytest.mark.realtime
+@pytest.mark.parametrize("mutant", REAL_TIME)
+def test_in_real_time_over_exec(tmp_path, mutant):
+    """The same over exec: with the bundled reference and the variant as real processes."""
+    from test_suite import ptpcert_run, reference_iut
+
+    profile = reference_profile(**MUTANTS[mutant].profile)
+    cases = [c for c, m in KILLS.items() if m == mutant]
+    select = [arg for c in cases for arg in ("--select", c)]
+    p, data = ptpcert_run(tmp_path, reference_iut(profile), profile, *select)
+    assert p.returncode == 0 and {c["id"]: c["verdict"] for c in data["cases"]} == {c: "pass" for c in cases}, \
+        [(c["id"], c["verdict"], c["message"]) for c in data["cases"]]
+    p, data = ptpcert_run(tmp_path, reference_iut(profile, mutant=mutant), profile, *select)
+    assert p.returncode == 1 and {c["verdict"] for c in data["cases"]} == {"fail"}

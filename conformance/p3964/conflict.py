@@ -56,9 +56,9 @@ def cases(p):
     if p.priority == "high":
         for at, name in OFFSETS:
             if name == "THREE-QUARTERS-ADT":
-                # no room for a silence before the IUT's ADT runs out: the DLE follows at once,
-                # and an IUT that answered the STX (with DLE) fails at its block
-                wait = [send(DLE, at="2*CHAR", note="the tester defers and acknowledges the IUT's STX")]
+                # no room for a silence before the IUT's ADT runs out: the DLE follows the STX
+                # back to back, and an IUT that answered the STX (with DLE) fails at its block
+                wait = [send(DLE, note="the tester defers and acknowledges the IUT's STX")]
             else:
                 wait = [silence("0.15*ADT", note="the IUT must not answer it"),
                         send(DLE, note="the tester defers and acknowledges the IUT's STX")]
