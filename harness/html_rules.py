@@ -14,7 +14,7 @@ from typing import Any
 
 from . import results as R
 from .report import anchor
-from .rules import DIMENSIONS, Catalogue, catalogues
+from .rules import Catalogue, catalogues
 
 #: worst first: the verdict a rule gets from the cases that cite it
 _WORST = (R.FAIL, R.XPASS, R.ERROR, R.NON_STRICT, R.INFORMATIONAL, R.PASS, R.XFAIL, R.UNSUPPORTED, R.NOT_RUN)
@@ -54,7 +54,7 @@ def rule_verdicts(run: R.RunResult, catalogue: Catalogue) -> dict[str, tuple[str
         for rid in c.rules:
             if rid in by_rule:
                 by_rule[rid].append(c)
-    setting = {k: run.profile[k] for k in DIMENSIONS if k in (run.profile or {})}
+    setting = {k: run.profile[k] for k in catalogue.dimensions if k in (run.profile or {})}
     out = {}
     for rule in catalogue:
         cases = by_rule[rule.id]

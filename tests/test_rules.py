@@ -105,3 +105,18 @@ def test_nothing_users_have_cites_our_notes():
         text = f.read_text("utf-8")
         for note in ("3964r.md", "status-codes.md", "rk512.md", "ascii.md", "../shared", "/work/shared"):
             assert note not in text, f"{f.relative_to(root)} cites {note}"
+
+
+def test_a_catalogue_declares_its_own_dimensions():
+    # the same form serves RK 512 and the ASCII driver: their settings are other profile keys
+    raw = {"procedure": "ascii", "title": "ASCII driver", "prefix": "ASCII", "manual": "m",
+           "dimensions": {"flow_control": ["none", "xon_xoff"]},
+           "rule": [{"id": "ASCII.RX.XOFF", "ref": "§2.2.4", "text": "XOFF stops the sender.", "provenance": "S",
+                     "role": "receiver", "flow_control": ["xon_xoff"]}]}
+    cat = parse(raw, "ascii.toml")
+    r = cat.get("ASCII.RX.XOFF")
+    assert cat.dimensions == {"flow_control": ("none", "xon_xoff")}
+    assert r.applies_to({"flow_control": "xon_xoff"}) and not r.applies_to({"flow_control": "none"})
+    with pytest.raises(CatalogueError, match="unknown field priority"):
+        parse({**raw, "rule": [{**raw["rule"][0], "priority": ["low"]}]}, "ascii.toml")
+    assert CAT.dimensions["priority"] == ("low", "high")

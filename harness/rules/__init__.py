@@ -22,7 +22,8 @@ from functools import lru_cache
 from importlib import resources
 from typing import Any, Iterable, Iterator
 
-#: the dimensions a rule may be restricted to, with every value each can take
+#: the dimensions a rule of the 3964(R) catalogue may be restricted to, with every value each
+#: can take; a catalogue declares its own in a [dimensions] table (these are the default)
 DIMENSIONS: dict[str, tuple[Any, ...]] = {
     "procedure": ("3964", "3964R"),
     "priority": ("low", "high"),
@@ -100,6 +101,8 @@ class Catalogue:
     manual: str
     rules: tuple[Rule, ...]
     readings: dict[str, Reading] = field(default_factory=dict)
+    #: the settings of an IUT a rule may be restricted to (profile keys) and their values
+    dimensions: dict[str, tuple[Any, ...]] = field(default_factory=lambda: dict(DIMENSIONS))
 
     def __iter__(self) -> Iterator[Rule]:
         return iter(self.rules)
@@ -145,6 +148,10 @@ def parse(raw: dict[str, Any], source: str = "<catalogue>") -> Catalogue:
         if not isinstance(raw.get(key), str) or not raw[key]:
             raise CatalogueError(f"{source}: {key} missing")
     prefix = raw["prefix"]
+    dims_raw = raw.get("dimensions", DIMENSIONS)
+    if not isinstance(dims_raw, dict) or any(not isinstance(v, (list, tuple)) or not v for v in dims_raw.values()):
+        raise CatalogueError(f"{source}: [dimensions] is a table of profile key = [its values]")
+    dimensions = {k: tuple(v) for k, v in dims_raw.items()}
     rules: list[Rule] = []
     seen: set[str] = set()
     readings_raw = raw.get("reading", {})
@@ -157,7 +164,7 @@ def parse(raw: dict[str, Any], source: str = "<catalogue>") -> Catalogue:
             raise CatalogueError(f"{where}: id used twice")
         seen.add(rid)
         unknown = set(r) - {"id", "ref", "text", "provenance", "role", "readings", "untestable", "notes",
-                            *DIMENSIONS}
+                            *dimensions}
         if unknown:
             raise CatalogueError(f"{where}: unknown field {sorted(unknown)[0]}")
         for key in ("ref", "text", "provenance", "role"):
@@ -170,7 +177,7 @@ def parse(raw: dict[str, Any], source: str = "<catalogue>") -> Catalogue:
         if any(p not in PROVENANCE for p in r["provenance"].split()):
             raise CatalogueError(f"{where}: provenance is letters of {' '.join(PROVENANCE)}")
         applies = {}
-        for dim, values in DIMENSIONS.items():
+        for dim, values in dimensions.items():
             if dim in r:
                 got = _list(r, dim, where)
                 if not got or any(v not in values for v in got):
@@ -196,7 +203,7 @@ def parse(raw: dict[str, Any], source: str = "<catalogue>") -> Catalogue:
         if x["grade"] not in READING_GRADES:
             raise CatalogueError(f"{where}: grade {x['grade']!r} (allowed: {', '.join(READING_GRADES)})")
         readings[rid] = Reading(rid, x["question"], x["model"], x["grade"])
-    return Catalogue(raw["procedure"], raw["title"], prefix, raw["manual"], tuple(rules), readings)
+    return Catalogue(raw["procedure"], raw["title"], prefix, raw["manual"], tuple(rules), readings, dimensions)
 
 
 @lru_cache(maxsize=None)
