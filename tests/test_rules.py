@@ -117,6 +117,7 @@ def test_a_catalogue_declares_its_own_dimensions():
     r = cat.get("ASCII.RX.XOFF")
     assert cat.dimensions == {"flow_control": ("none", "xon_xoff")}
     assert r.applies_to({"flow_control": "xon_xoff"}) and not r.applies_to({"flow_control": "none"})
+    assert r.scope() == "flow control xon_xoff"
     with pytest.raises(CatalogueError, match="unknown field priority"):
         parse({**raw, "rule": [{**raw["rule"][0], "priority": ["low"]}]}, "ascii.toml")
     assert CAT.dimensions["priority"] == ("low", "high")

@@ -80,6 +80,8 @@ class Rule:
                 parts.append("priority " + " and ".join(values))
             elif dim == "data_bits":
                 parts.append(" and ".join(map(str, values)) + " data bits")
+            else:
+                parts.append(dim.replace("_", " ") + " " + " and ".join(map(str, values)))
         return ", ".join(parts)
 
 
