@@ -7,7 +7,7 @@ crossing STX or silence; interrupt its block; send blocks with wrong BCCs, chara
 errors, gaps over CDT...). The result is an ordinary vector: the tester's stimuli and, as
 expectations, what the model did, with windows derived from why it did it. The vector is
 run against the IUT; a divergence is a finding, confirmed by a second run, and not a
-finding when a model with another defensible reading of the manual (3964r.md §17) would
+finding when a model with another defensible reading of the manual (docs/readings.md) would
 have done what the IUT did. Hypothesis shrinks every finding to a minimal transcript,
 which is written out as a vector (``vectors/regressions/``).
 
@@ -693,7 +693,7 @@ class Campaign:
         return self.findings
 
     def _alternative(self, v: Vector, res: R.CaseResult) -> str | None:
-        """The open point of the manual (3964r.md §17) whose other reading explains the
+        """The open point of the manual (docs/readings.md) whose other reading explains the
         divergence, if any: a model with that reading, run through the same vector, departs
         from it at the same step in the same way as the IUT did."""
         d0 = res.divergence

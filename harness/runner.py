@@ -570,7 +570,7 @@ class Runner:
     # -- one case ------------------------------------------------------------------
     def run_case(self, v: Vector) -> R.CaseResult:
         res = R.CaseResult(id=v.id, title=v.title, reference=v.reference, rule=v.rule, group=v.group,
-                           iut_role=v.iut_role, readings=list(v.readings), source=v.source)
+                           iut_role=v.iut_role, readings=list(v.readings), source=v.source, rules=list(v.rules))
         res.expected_status = v.expected.iut_status.describe()
         res.expected_status_codes = [sorted(f"16#{c:04X}" for c in g) for g in v.expected.iut_status.required]
         res.tester_status = v.expected.tester_status.describe()

@@ -297,7 +297,7 @@ class Vector:
     start: str = "idle"
     requires: frozenset[str] = frozenset()
     readings: tuple[str, ...] = ()       # ambiguities (A-numbers) the vector depends on
-    provenance: str = ""                 # [S] stated, [F] figure, [I] inferred (3964r.md §0.2)
+    provenance: str = ""                 # [S] stated, [F] figure, [I] inferred, [O] open point
     notes: str = ""
     source: str = ""                     # file the vector was loaded from
     #: parameters the vector's bytes depend on; a profile must match them to run it
@@ -312,6 +312,8 @@ class Vector:
     setup: tuple[str, dict[str, Any]] | None = None
     #: procedure-specific data (e.g. RK 512 requests and results), a TOML table
     extra: dict[str, Any] = field(default_factory=dict)
+    #: ids of the manual's rules the vector checks (the procedure's catalogue, ptpcert.rules)
+    rules: tuple[str, ...] = ()
 
     @property
     def proc(self):
@@ -342,6 +344,8 @@ class Vector:
             d["start"] = self.start
         if self.requires:
             d["requires"] = sorted(self.requires)
+        if self.rules:
+            d["rules"] = list(self.rules)
         if self.readings:
             d["readings"] = list(self.readings)
         if self.provenance:
@@ -387,7 +391,7 @@ class VectorError(ValueError):
 
 
 _ID = re.compile(r"^[A-Z0-9][A-Z0-9.\-_]*$")
-_TOP_KEYS = {"id", "title", "reference", "rule", "group", "iut_role", "start", "requires",
+_TOP_KEYS = {"id", "title", "reference", "rule", "rules", "group", "iut_role", "start", "requires",
              "readings", "provenance", "notes", "binds", "params", "tester_params", "expected", "steps",
              "timing_sensitive", "procedure", "setup", "extra"}
 _EXPECTED_KEYS = {"iut_status", "iut_status_optional", "tester_status", "tester_status_optional",
@@ -466,6 +470,13 @@ def vector_from_dict(raw: dict[str, Any], source: str = "<vector>") -> Vector:
         bad = next((r for r in readings if r not in proc.readings), readings) if isinstance(readings, list) else readings
         raise err("readings", f"{bad!r}: a list of the manual's open points this procedure has readings for "
                   f"({proc.readings[0]}..{proc.readings[-1]})" if proc.readings else "this procedure has no readings")
+    rules = raw.get("rules", [])
+    if not isinstance(rules, list) or any(not isinstance(r, str) for r in rules):
+        raise err("rules", "a list of rule ids such as [\"3964.RX.BCC-CHECK\"] (ptpcert rules lists them)")
+    unknown_rules = proc.rules().unknown(rules)
+    if unknown_rules:
+        raise err("rules", f"{unknown_rules[0]!r} is not a rule of the {proc.title} catalogue "
+                  "(ptpcert rules lists them)")
     for key in ("provenance", "notes"):
         if key in raw and not isinstance(raw[key], str):
             raise err(key, "must be a string")
@@ -482,7 +493,7 @@ def vector_from_dict(raw: dict[str, Any], source: str = "<vector>") -> Vector:
         readings=tuple(readings), provenance=raw.get("provenance", ""),
         notes=raw.get("notes", "").strip(), source=source, binds=tuple(binds),
         tester_params=tester_params, timing_sensitive=raw.get("timing_sensitive", False),
-        procedure=proc.id, setup=setup, extra=dict(extra),
+        procedure=proc.id, setup=setup, extra=dict(extra), rules=tuple(rules),
     )
     check_times(v, err)
     return v
