@@ -100,7 +100,8 @@ def test_nothing_users_have_cites_our_notes():
     root = Path(__file__).resolve().parent.parent
     files = [*(root / "harness").rglob("*.py"), *(root / "harness").rglob("*.toml"), *(root / "conformance").rglob("*.py"),
              *(root / "vectors").rglob("*.toml"), root / "README.md", root / "vectors" / "README.md",
-             *(root / "docs").glob("*.md")]
+             *(root / "docs").glob("*.md"), *(root / "benchmarks").rglob("*.py"),
+             *(f for f in (root / "tests" / "independent").rglob("*") if f.suffix in (".py", ".md", ".toml"))]
     for f in files:
         text = f.read_text("utf-8")
         for note in ("3964r.md", "status-codes.md", "rk512.md", "ascii.md", "../shared", "/work/shared"):
