@@ -214,6 +214,17 @@ class Procedure:
             words = words.replace("{" + k + "}", str(v))
         return f"{template} {words}"
 
+    def unsupported(self, vector: Any, capabilities: frozenset[str]) -> str | None:
+        """Why ``vector`` cannot run over a transport with these capabilities, beyond what
+        the runner checks itself (e.g. modem lines); None: it can."""
+        return None
+
+    def interleaved(self, params: Any) -> bytes:
+        """Bytes an IUT may put on the line between any others at times the manual leaves
+        open (ASCII: the XON of its flow control). An expect step passes over them where it
+        does not expect them."""
+        return b""
+
     def judge_reports(self, vector: Any, lines: list[str]) -> list[str]:
         """Problems with what the IUT reported on stderr beyond STATUS (e.g. RK 512's RESULT
         lines); empty: acceptable."""

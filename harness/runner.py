@@ -124,6 +124,10 @@ class CaseRun:
         self.sent_end = self.t0
         self.mark_time = self.t0
         self.partner_delivered: list[bytes] = []
+        #: bytes an expect step passes over where it does not expect them
+        self.skippable = frozenset(proc.interleaved(params))
+        #: (data, bytes received) of the last partial expect step, for a step that resumes it
+        self.last_partial: tuple[bytes, int] | None = None
 
     # -- helpers -----------------------------------------------------------------------
     def rel(self, t: float) -> float:
@@ -159,6 +163,16 @@ class CaseRun:
                 return None
             self._pump(deadline)
         return self.rx[self.pos]
+
+    def next_wanted(self, deadline: float, wanted: set[int]) -> tuple[float, int] | None:
+        """The next received byte, passing over the procedure's interleaved bytes (e.g. an
+        XON) that arrive in time and are not among those ``wanted`` here."""
+        while True:
+            item = self.next_byte(deadline)
+            if item is None or item[0] > deadline or item[1] not in self.skippable or item[1] in wanted:
+                return item
+            self.consume()
+            self.log[self.rx_log[self.pos - 1]]["skipped"] = True
 
     def fail(self, expected: str, observed: str, t: float, window=None, late_only=False):
         div = R.Divergence(self.step_index, self.rel(t), expected, observed,
@@ -237,6 +251,12 @@ class CaseRun:
         self.forced += d
 
     def _expect(self, step: Step) -> None:
+        last_partial, self.last_partial = self.last_partial, None
+        if step.resume and last_partial is not None and last_partial[0] == step.data:
+            rest = step.data[last_partial[1]:]
+            if not rest:
+                return  # the interrupted step received everything already
+            step = replace(step, data=rest, alternatives=())
         if step.since == "sent":
             self.ref = self.sent_end
         elif step.since == "mark":
@@ -249,8 +269,11 @@ class CaseRun:
             what += " (or " + " or ".join(brief_hex(a) for a in step.alternatives) + ")"
         label = f"expect {what} in [{step.after}, {step.within}]"
         self.mark("window", t0=self.rel(self.ref + lo_nom), t1=self.rel(self.ref + hi_nom), label=label)
-        first = self.next_byte(hi)
+        cands = [step.data] + list(step.alternatives)
+        first = self.next_wanted(hi, {c[0] for c in cands})
         if first is None or first[0] > hi:
+            if step.partial:
+                self.last_partial = (step.data, 0)
             if step.optional or step.partial:
                 if step.optional:
                     self._grade(step.absent_grade, f"step {self.step_index + 1}: optional {what} not sent")
@@ -263,10 +286,10 @@ class CaseRun:
                       f"{b:02X} came {1000 * (t - self.ref):.1f} ms after the reference, too late",
                       t, (self.ref + lo_nom, self.ref + hi_nom), late_only=(b == step.data[0]))
         t, b = first
-        cands = [step.data] + list(step.alternatives)
         live = [c for c in cands if c[0] == b]
         if not live:
             if step.partial:
+                self.last_partial = (step.data, 0)
                 return
             if step.optional:
                 self._grade(step.absent_grade, f"step {self.step_index + 1}: optional {what} not sent")
@@ -286,7 +309,7 @@ class CaseRun:
             longer = [c for c in live if len(c) > len(got)]
             if not longer:
                 break
-            nxt = self.next_byte(last_t + gap_lim)
+            nxt = self.next_wanted(last_t + gap_lim, {c[len(got)] for c in longer})
             if nxt is None or nxt[0] > last_t + gap_lim:
                 if done or step.partial:
                     break
@@ -308,6 +331,8 @@ class CaseRun:
             self.consume()
             last_t = nt
         matched = bytes(got)
+        if step.partial:
+            self.last_partial = (step.data, len(matched))
         if matched != step.data and not step.partial:
             if matched in step.alternatives:
                 self._grade(step.alt_grade, f"step {self.step_index + 1}: the IUT sent {codec.hexstr(matched)}")
@@ -389,6 +414,9 @@ class CaseRun:
         for i, (want, have) in enumerate(zip(echo, got)):
             if want != have:
                 self.fail(f"echo {i + 1}: {codec.hexstr(want)}", f"the IUT sent back {codec.hexstr(have)}", self.ref)
+        if len(got) > len(echo):
+            self.fail(f"{len(echo)} block(s) back from the IUT",
+                      f"it also sent back {', '.join(codec.hexstr(x) for x in got[len(echo):])}", self.ref)
         self.forced += sum(len(self.proc.frame(e, self.p)) + 2 for e in echo) * self.char
 
     def _partner(self, step: Step) -> None:
@@ -514,6 +542,9 @@ class Runner:
                 return "needs characters with parity/framing errors, which this transport cannot carry"
         if "restart" in v.needs and RESTART not in caps:
             return "needs to see the IUT start up; this transport does not start the IUT"
+        reason = v.proc.unsupported(v, caps)
+        if reason:
+            return reason
         if v.setup is not None and not getattr(self.factory, "virtual", False):
             name = v.setup[0]
             if self.profile is None or name not in self.profile.setups:
@@ -662,6 +693,12 @@ class Runner:
             if problems and res.verdict != R.FAIL:
                 res.verdict = R.FAIL
                 res.message = "STATUS: " + "; ".join(problems) + (f" (reported: {', '.join(res.observed_status) or 'none'})")
+            soft = v.expected.iut_status.soft_missing(codes)
+            if soft and res.verdict in R.GRADE_ORDER:
+                res.verdict = R.worse_grade(res.verdict, R.INFORMATIONAL)
+                res.message = "; ".join(x for x in (res.message, "STATUS: the IUT took another reading of an open "
+                                                    "point: " + ", ".join(soft) + " not reported (reported: "
+                                                    + (", ".join(res.observed_status) or "none") + ")") if x)
             # what the procedure's IUT reports beyond STATUS (e.g. RK 512 request results)
             lines = [text for _, text in tr.report_lines()]
             more = v.proc.judge_reports(v, lines)
