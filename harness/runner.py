@@ -277,6 +277,8 @@ class CaseRun:
             if step.optional or step.partial:
                 if step.optional:
                     self._grade(step.absent_grade, f"step {self.step_index + 1}: optional {what} not sent")
+                    # the next step follows the window watched in vain
+                    self.ref = max(self.ref, self.ref + hi_nom)
                 self.forced += max(hi_nom, 0.0)  # the whole window had to be watched
                 return
             if first is None:

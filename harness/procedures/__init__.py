@@ -4,9 +4,10 @@ Adding one adds a module here and a line to :data:`PROCEDURES`; no runner code c
 from __future__ import annotations
 
 from ..procedure import Procedure, ProcedureError
+from .ascii import PAscii
 from .p3964 import P3964
 
-PROCEDURES: tuple[Procedure, ...] = (P3964(),)
+PROCEDURES: tuple[Procedure, ...] = (P3964(), PAscii())
 
 
 def by_name(name: str) -> Procedure:
