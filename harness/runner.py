@@ -371,6 +371,8 @@ class CaseRun:
                     state.startup_nak_seen = True
                 elif first is None and state.startup_nak_seen is None:
                     state.startup_nak_seen = False
+            else:
+                self._await_ready()
             self.ref = max(self.tr.now(), self.rx[self.pos - 1][0] if self.pos else self.tr.now())
         else:
             quiet = self.longest + self.tol.late(0)
@@ -389,6 +391,22 @@ class CaseRun:
             self.ref = self.tr.now()
         self.t_steps = self.ref
         self.mark("start", t=self.rel(self.ref))
+
+    def _await_ready(self) -> None:
+        """An IUT that announces nothing at start-up: before the first stimulus, wait until
+        it waits for input (a stimulus written earlier would sit in a pipe and lose its
+        timing), at most the start-up timeout."""
+        if self.tr.virtual:
+            return
+        end = self.tr.now() + self.opts.startup_timeout
+        while True:
+            ready = self.tr.ready()
+            if ready is None or ready:
+                return
+            if self.tr.now() >= end:
+                self.notes.append(f"the IUT did not wait for input within {self.opts.startup_timeout:g} s of its start")
+                return
+            self._pump(min(end, self.tr.now() + 0.01))
 
     def epilogue(self) -> None:
         """After the steps: an echo IUT sends back the blocks the vector names; the tester
@@ -439,7 +457,8 @@ class CaseRun:
         partner.power_on(start)
         partner.pop_output()          # it is already running: nothing of its start-up here
         ep = _CaseEndpoint(self)
-        quiet = max(proc.edge_timers(params)) + 4 * proc.char_time(params)
+        # quiet for the longest timer, with the lateness a real-time IUT is allowed
+        quiet = max(proc.edge_timers(params)) + 4 * proc.char_time(params) + self.tol.late(0)
         got: list[bytes] = []
 
         def on_event(e) -> None:

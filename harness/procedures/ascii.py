@@ -41,8 +41,8 @@ from typing import Any, Mapping
 
 from ..model.ascii import AsciiHost, AsciiParams, AsciiStation
 from ..model.ascii.codec import char_name, send_bytes, split_frames
-from ..model.ascii.params import (END_CRITERIA, FLOW_CONTROLS, INTERFACES, MIN_CDT_MS, PROFILE_KEYS,
-                                  SEND_VARIANTS)
+from ..model.ascii.params import (END_CRITERIA, FLOW_CONTROLS, INTERFACES, MAX_CDT_MS, MIN_CDT_MS,
+                                  PROFILE_KEYS, SEND_VARIANTS)
 from ..model.ascii.readings import READINGS
 from ..model.line import LineSettings
 from ..model.params import BAUD_RATES, ParameterError
@@ -189,13 +189,19 @@ class PAscii(Procedure):
         return bytes((params.xon,)) if params.flow_control == "xon_xoff" else b""
 
     def tester_params(self, params: AsciiParams, declared: AsciiParams | None = None) -> AsciiParams:
-        """A conforming partner with the IUT's settings, whose CDT is 0.6 of the IUT's (not
-        below the baud rate's minimum): it receives what the IUT sends as the IUT's own
-        frames where the IUT keeps the pause of more than CDT between them and no gap
-        inside them, with a margin that real time can resolve."""
+        """A conforming partner with the IUT's settings, except its CDT. With the CDT
+        criterion it delimits the IUT's frames by the pause: its CDT is 0.6 of the IUT's
+        (not below the baud rate's minimum), between the pause of more than the CDT the IUT
+        keeps between frames and the gaps inside them (none, plus what real time adds).
+        With the other criteria frames are delimited by end characters or length, and the
+        CDT is only a watchdog: three times the IUT's plus 100 ms, so that a real-time IUT
+        scheduled a little late is not taken to have broken its frame."""
         base = declared if declared is not None else params
-        cdt = max(MIN_CDT_MS[base.baud_rate], int(0.6 * params.cdt_ms))
-        return base.with_(cdt_ms=min(cdt, params.cdt_ms))
+        if base.end_criterion == "cdt":
+            cdt = min(params.cdt_ms, max(MIN_CDT_MS[base.baud_rate], int(0.6 * params.cdt_ms)))
+        else:
+            cdt = min(MAX_CDT_MS, 3 * params.cdt_ms + 100)
+        return base.with_(cdt_ms=cdt)
 
     def interleaved(self, params: AsciiParams) -> bytes:
         # reading Q15: an XON may also follow every read, not only an XOFF
