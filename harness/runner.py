@@ -458,7 +458,9 @@ class CaseRun:
         partner.pop_output()          # it is already running: nothing of its start-up here
         ep = _CaseEndpoint(self)
         # quiet for the longest timer, with the lateness a real-time IUT is allowed
-        quiet = max(proc.edge_timers(params)) + 4 * proc.char_time(params) + self.tol.late(0)
+        # (the IUT's timers and the partner's: they may differ, e.g. an ASCII partner's CDT)
+        quiet = (max(proc.edge_timers(params) + proc.edge_timers(self.p)) + 4 * proc.char_time(params)
+                 + self.tol.late(0))
         got: list[bytes] = []
 
         def on_event(e) -> None:
