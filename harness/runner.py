@@ -541,7 +541,10 @@ class Runner:
             return v.params
         p = self.profile.params
         fixed = {name: getattr(v.params, name) for name in v.binds}
-        return p.with_(**fixed) if fixed else p
+        try:
+            return p.with_(**fixed) if fixed else p
+        except ValueError:
+            return v.params  # no such IUT: the bound values do not go with the profile's (unsupported)
 
     def unsupported_reason(self, v: Vector, caps: frozenset[str]) -> str | None:
         if self.profile is not None:

@@ -110,6 +110,53 @@ def echo_frames(frames: list[bytes], params: AsciiParams) -> list[bytes]:
     return out
 
 
+#: the [iut.setups] of the bundled reference implementation (ptpcert iut --procedure ASCII)
+REFERENCE_SETUPS = {"slow_reader": "--echo-delay-ms {ms}", "send_job": "--send={jobs}"}
+
+
+def reference_profile(**settings: Any):
+    """The profile of ``ptpcert iut --procedure ASCII`` with these settings (profile keys of
+    [iut] and [ascii], e.g. ``end_criterion="end_chars"``; defaults: CDT 20 ms, 9600 8E1,
+    echo, PARMRK, STATUS on stderr, both setups) - for tests, the kill matrix, benchmarks."""
+    from ..profile import profile_from_dict
+
+    iut: dict[str, Any] = dict(procedure="ASCII", character_delay_ms=20, send_trigger="echo",
+                               line_conditions="parmrk", status_from_stderr=True, setups=dict(REFERENCE_SETUPS))
+    table: dict[str, Any] = {}
+    for key, value in settings.items():
+        if key in IUT_KEYS or key in ("send_trigger", "line_conditions", "status_from_stderr", "setups"):
+            iut[key] = value
+        else:
+            table[key] = value
+    return profile_from_dict({"iut": iut, "ascii": table})
+
+
+def iut_command(params: AsciiParams, *, mutant: str | None = None, python: str | None = None,
+                parmrk: bool = True) -> str:
+    """The ``ptpcert iut`` command line that runs the reference implementation (or a broken
+    variant) with these parameters."""
+    import shlex
+    import sys
+
+    words = [python or sys.executable, "-m", "ptpcert.cli", "iut", "--procedure", "ASCII",
+             "--cdt-ms", str(params.cdt_ms), "--baud", str(params.baud_rate), "--data-bits", str(params.data_bits),
+             "--parity", params.parity, "--stop-bits", str(params.stop_bits),
+             "--end-criterion", params.end_criterion, "--end-chars", ",".join(f"{c:02X}" for c in params.end_chars),
+             "--fixed-length", str(params.fixed_length), "--send-variant", params.send_variant,
+             "--flow-control", params.flow_control, "--xon", f"{params.xon:02X}", "--xoff", f"{params.xoff:02X}",
+             "--xon-wait-ms", str(params.xon_wait_ms), "--buffer-frames", str(params.buffer_frames),
+             "--interface", params.interface]
+    if not params.send_pause:
+        words.append("--no-send-pause")
+    if not params.prevent_overwrite:
+        words.append("--overwrite")
+    if parmrk:
+        words.append("--parmrk")
+    if mutant:
+        words += ["--mutant", mutant]
+    return " ".join(shlex.quote(w) for w in words)
+
+
 class PAscii(Procedure):
     id = "ascii"
     title = "ASCII driver"
