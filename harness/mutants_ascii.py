@@ -64,7 +64,7 @@ class _(AsciiStation):
         self._cdt_window = 2.0 * self.params.cdt + self.params.char_time
 
 
-@mutant("no-watchdog", "§2.2.4 (R-FL-2): the CDT does not watch a fixed-length frame; a short frame waits for more",
+@mutant("no-watchdog", "§2.2.4 'fixed message frame length'; Fig. 2-23: the CDT does not watch a fixed-length frame; a short frame waits for more",
         **FL)
 class _(AsciiStation):
     def _restart_cdt(self):
@@ -74,7 +74,7 @@ class _(AsciiStation):
             self._stop(Timer.T_CDT)
 
 
-@mutant("fragment-delivered", "§2.2.4 (R-FL-2, R-FL-4): a short fixed-length frame is delivered when the CDT expires",
+@mutant("fragment-delivered", "§2.2.4 'fixed message frame length'; Fig. 2-23: a short fixed-length frame is delivered when the CDT expires",
         **FL)
 class _(AsciiStation):
     def _rx_fragment_timeout(self, _v):
@@ -82,7 +82,7 @@ class _(AsciiStation):
         self._store_frame(frame)
 
 
-@mutant("trailing-kept", "§2.2.4 (R-EC-4): characters after the end character are delivered as a frame of their own "
+@mutant("trailing-kept", "§2.2.4 'end character(s)', malformed frames: characters after the end character are delivered as a frame of their own "
         "when the CDT expires", **EC)
 class _(AsciiStation):
     def _rx_fragment_timeout(self, v):
@@ -93,7 +93,7 @@ class _(AsciiStation):
 
 
 # ---------------------------------------------------------------- receiving: end characters and length
-@mutant("end-char-not-stored", "§2.2.4 (R-EC-1): the end character is not delivered with the data", **EC)
+@mutant("end-char-not-stored", "§2.2.4 'end character(s)': the end character is not delivered with the data", **EC)
 class _(AsciiStation):
     def _store_frame(self, frame):
         end = self.params.end_sequence
@@ -102,7 +102,7 @@ class _(AsciiStation):
         super()._store_frame(frame)
 
 
-@mutant("end-char-waits-cdt", "§2.2.4 (R-EC-1): a frame ends only when the CDT expires after its end character; "
+@mutant("end-char-waits-cdt", "§2.2.4 'end character(s)'; Fig. 2-22: a frame ends only when the CDT expires after its end character; "
         "what follows within the CDT is added to it", **EC)
 class _(AsciiStation):
     def _classify(self, b):
@@ -126,7 +126,7 @@ class _(AsciiStation):
         return super()._classify(b)
 
 
-@mutant("fixed-length-plus-one", "§2.2.4 (R-FL-1), Table 2-7: a fixed-length frame ends one character late", **FL)
+@mutant("fixed-length-plus-one", "§2.2.4 'fixed message frame length', Table 2-7: a fixed-length frame ends one character late", **FL)
 class _(AsciiStation):
     def _classify(self, b):
         if self.params.end_criterion == "fixed_length" and self.rx_state is not RxState.OFF:
@@ -136,7 +136,7 @@ class _(AsciiStation):
 
 
 # ---------------------------------------------------------------- receiving: character errors and BREAK
-@mutant("char-error-delivered", "Fig. 2-21 (R-CDT-3): a frame with a parity error is delivered, the bad character "
+@mutant("char-error-delivered", "Fig. 2-21; Table 8-1 (08)0CH: a frame with a parity error is delivered, the bad character "
         "left out, and no error is entered", end_criterion="cdt")
 class _(AsciiStation):
     RX_TABLES = _patched_rx({
@@ -149,7 +149,7 @@ class _(AsciiStation):
         self._restart_cdt()
 
 
-@mutant("error-ends-frame-at-once", "Fig. 2-22 (R-EC-6): after a character error the frame is discarded at once, not "
+@mutant("error-ends-frame-at-once", "Fig. 2-22; Table 8-1 (08)0CH: after a character error the frame is discarded at once, not "
         "at its end character; the rest of it is taken as a new frame", **EC)
 class _(AsciiStation):
     RX_TABLES = _patched_rx({(RxState.RECEIVE, RxInput.INVALID): Row("drop_now", RxState.WAIT_CHAR, "mutant")})

@@ -104,6 +104,12 @@ def echoes(p: AsciiParams, frames) -> list[bytes]:
     return echo_frames([h(f) for f in frames], p)
 
 
+def no_flow(p: AsciiParams) -> bool:
+    """The receiver never holds its partner (no XON/XOFF, no RTS/CTS): a frame of 1024 bytes
+    or a full buffer can be reached without the partner being stopped."""
+    return p.flow_control in ("none", "auto_v24")
+
+
 def quiet_flow(p: AsciiParams) -> bool:
     """No XOFF can come between the bytes of a few echoed frames: without XON/XOFF, or with a
     buffer that holds several frames (an XON may come anywhere: reading Q15)."""
@@ -172,3 +178,19 @@ FILL_TIME = 2.5
 def sending_time(p: AsciiParams, frames, gap_cdts: float) -> float:
     """Seconds the tester needs to send ``frames`` with ``gap_cdts`` CDTs between them."""
     return sum(len(f) for f in frames) * p.char_time + max(0, len(frames) - 1) * gap_cdts * p.cdt
+
+
+def echo_steps(p: AsciiParams, frames, first: str = SLOW, late_last: bool = False) -> list[Step]:
+    """Expect the echoes of ``frames`` one by one from an application that reads late: the
+    first within ``first``, each further one soon after the one before (the frames waited in
+    the buffer); ``late_last``: the last frame entered the buffer late (it may be read only
+    a slow reader's delay after the others)."""
+    from ptpcert.model.ascii import send_bytes
+
+    out = []
+    for i, f in enumerate(frames):
+        within = first if i == 0 else SLOW if (late_last and i == len(frames) - 1) else "3*CDT + 20*CHAR"
+        out.append(expect(send_bytes(h(f), p), within=within,
+                          note="the slow application reads the oldest frame and sends it back" if i == 0
+                          else f"frame {i + 1} sent back"))
+    return out

@@ -3,8 +3,8 @@ delimiting, merging, discarding and error reporting."""
 
 from __future__ import annotations
 
-from ._build import (GAP, IDLE, OVER, RX_ERRORS, UNDER, data, echoes, expect, quiet_flow, receive_case, send,
-                     send_error, transparent)
+from ._build import (GAP, IDLE, OVER, RX_ERRORS, UNDER, data, echoes, expect, no_flow, quiet_flow, receive_case,
+                     send, send_error, transparent)
 
 REF = "§2.2.4 'expiry of the character delay time'; Fig. 2-21"
 
@@ -41,7 +41,7 @@ def cases(p):
                      [send_error(data(p, 1, 3)), send(b, at=GAP), send(data(p, 1, 11), at=GAP), send(c, at=IDLE)], [c],
                      status=[RX_ERRORS], soft=["16#080C"], readings=["Q12"], timing_sensitive=True),
     ]
-    if p.flow_control != "xon_xoff":
+    if no_flow(p):
         t = transparent(p)
         out.append(receive_case(
             p, "CDT.TRANSPARENT", "Every code is data with the CDT criterion and no XON/XOFF",

@@ -10,8 +10,8 @@ from dataclasses import replace
 from ptpcert.model.ascii import send_bytes
 from ptpcert.model.ascii.params import BUFFER_BYTES, XOFF_MARGIN
 
-from ._build import (FILL_TIME, IDLE, OVER, RX_ERRORS, SLOW, SLOW_SETUP, case, data, echoes, expect, frame_of, hold,
-                     modem_case, quiet_flow, receive_case, send, sending_time, silence, with_echo)
+from ._build import (FILL_TIME, IDLE, OVER, RX_ERRORS, SLOW, SLOW_SETUP, case, expect, frame_of, hold,
+                     modem_case, quiet_flow, receive_case, send, sending_time, silence, echo_steps)
 
 REF = "§2.2.4 'data flow control / handshaking'; Table 2-9"
 #: the fill level at which XOFF is due: 50 characters before the 1024-byte buffer overflows
@@ -152,15 +152,17 @@ def _receiver_side(p, xon, xoff):
     if n * size <= FILL - 100 and sending_time(p, frames, 1.4 if gap != "0" else 0.0) <= FILL_TIME:
         steps, window = _sends(frames, gap, watch=2)
         steps += [expect(xoff, within=window, since="mark", note="XOFF at the last frame (reading Q14: or the one before)"),
-                  expect(xon, within=SLOW, note="XON once the slow application has read a frame"),
-                  expect(send_bytes(frames[0], p), within=SLOW, note="the oldest frame sent back")]
-        out.append(with_echo(case(
+                  expect(xon + send_bytes(frames[0], p), within=SLOW, alternatives=[send_bytes(frames[0], p) + xon],
+                         alt_grade="informational",
+                         note="XON once the slow application has read a frame, and the frame sent back (reading Q14: "
+                              "XOFF at N - 1 lifts only after a second read)")]
+        steps += echo_steps(p, frames[1:], first="3*CDT + 20*CHAR")
+        out.append(case(
             p, "FC.XOFF-AT-FRAME-COUNT", "XOFF when the buffered frames reach the parameter; XON after a read",
             REF + "; Table 2-10",
             "The driver sends XOFF when the number of frames in its receive buffer reaches 'buffered receive message "
             "frames' (at N or N - 1: reading Q14), and XON as soon as the CPU has read a frame.",
-            "flow-control", "receiver", steps, delivered=frames, setup=SLOW_SETUP, readings=["Q14", "Q15"]),
-            echoes(p, frames[1:])))
+            "flow-control", "receiver", steps, delivered=frames, setup=SLOW_SETUP, readings=["Q14", "Q15"]))
     fill = _frames_to_fill(p)
     if fill is not None:
         size, k, gap = fill
@@ -172,25 +174,25 @@ def _receiver_side(p, xon, xoff):
         pre = f"{gap} + " if gap != "0" else ""
         xoff_step = expect(xoff, after=f"{pre}{lo}*CHAR", within=f"{pre}{size + 4}*CHAR", since="mark",
                            note=f"XOFF around the {FILL}th byte (the exact byte is open: reading Q14)")
-        out.append(with_echo(case(
+        out.append(case(
             p, "FC.XOFF-AT-974-BYTES", "XOFF when 50 bytes are left in the 1024-byte buffer; XON after a read", REF,
             "The driver sends XOFF when only 50 characters remain before its 1024-byte receive buffer overflows, and "
             "XON once a read has made room.", "flow-control", "receiver",
-            steps + [xoff_step, expect(xon, within=SLOW, note="XON once the slow application has read a frame"),
-                     expect(send_bytes(frames[0], p), within=SLOW, note="the oldest frame sent back")],
-            delivered=frames, setup=SLOW_SETUP, readings=["Q14", "Q15"]), echoes(p, frames[1:])))
+            steps + [xoff_step, expect(xon, within=SLOW, note="XON once the slow application has read a frame")]
+            + echo_steps(p, frames, first="CDT + 10*CHAR", late_last=p.end_criterion == "cdt"),
+            delivered=frames, setup=SLOW_SETUP, readings=["Q14", "Q15", "d_hold"]))
         if p.end_criterion != "fixed_length":
             over = frame_of(p, 200, 50)
             steps = steps[:-1] + [send(over, at=gap, note="a frame of 200 bytes: the tester ignores the XOFF")]
-            out.append(with_echo(case(
+            out.append(case(
                 p, "FC.OVERFLOW", "A partner that ignores XOFF overflows the buffer: its last frame is discarded", REF,
                 "If the partner keeps sending after XOFF the buffer overflows, an error is generated and the data of the "
                 "last frame is discarded; the frames before it stay intact (the code is open: reading Q17).",
                 "flow-control", "receiver",
-                steps + [xoff_step, expect(xon, within=SLOW, note="XON once there is room again"),
-                         expect(send_bytes(frames[0], p), within=SLOW, note="the oldest frame sent back")],
+                steps + [xoff_step, expect(xon, within=SLOW, note="XON once there is room again")]
+                + echo_steps(p, frames[:-1]),
                 delivered=frames[:-1], status=[RX_ERRORS], soft=["16#080A"], setup=SLOW_SETUP,
-                readings=["Q15", "Q17"]), echoes(p, frames[1:-1])))
+                readings=["Q15", "Q17"]))
     return out
 
 

@@ -8,7 +8,7 @@ import math
 
 from ptpcert.model.ascii import send_bytes
 
-from ._build import (data, echoes, expect, frame_of, quiet_flow, receive_case, send, silence, case, h)
+from ._build import case, data, echoes, expect, frame_of, h, no_flow, quiet_flow, receive_case, send, silence
 
 REF = "§2.2.4 'sending'"
 VARIANT = {"up_to_end": ("UP-TO-END", "up to and including the end character", "the data up to and including the "
@@ -74,7 +74,7 @@ def cases(p):
                 "send", "sender", [expect(send_bytes(job, p), within="STARTUP", note="the job " + job.hex(" ").upper()),
                                    silence("3*CDT", note="the rest of the job is not sent")],
                 requires=(), setup=_job([job])))
-        if p.flow_control != "xon_xoff":
+        if no_flow(p):
             big = data(p, 1024 - len(p.end_chars)) + p.end_sequence
             out.append(receive_case(p, "TX.LEN-1024", "A frame of 1024 bytes is received and sent back whole",
                                     "§2.2.4; Table 6-2 LEN 1..1024; Table A-7",
