@@ -277,8 +277,8 @@ class CaseRun:
             if step.optional or step.partial:
                 if step.optional:
                     self._grade(step.absent_grade, f"step {self.step_index + 1}: optional {what} not sent")
-                    # the next step follows the window watched in vain
-                    self.ref = max(self.ref, self.ref + hi_nom)
+                    # the next step follows the window watched in vain (its tolerance included)
+                    self.ref = max(self.ref + hi_nom, min(self.tr.now(), hi))
                 self.forced += max(hi_nom, 0.0)  # the whole window had to be watched
                 return
             if first is None:
@@ -433,10 +433,10 @@ class CaseRun:
                                  label="echo: the tester receives as a conforming partner")
         for i, (want, have) in enumerate(zip(echo, got)):
             if want != have:
-                self.fail(f"echo {i + 1}: {codec.hexstr(want)}", f"the IUT sent back {codec.hexstr(have)}", self.ref)
+                self.fail(f"echo {i + 1}: {brief_hex(want)}", f"the IUT sent back {brief_hex(have)}", self.ref)
         if len(got) > len(echo):
             self.fail(f"{len(echo)} block(s) back from the IUT",
-                      f"it also sent back {', '.join(codec.hexstr(x) for x in got[len(echo):])}", self.ref)
+                      f"it also sent back {', '.join(brief_hex(x) for x in got[len(echo):])}", self.ref)
         self.forced += sum(len(self.proc.frame(e, self.p)) + 2 for e in echo) * self.char
 
     def _partner(self, step: Step) -> None:

@@ -13,7 +13,7 @@ from ptpcert.status import lookup
 #: manual's CDT rules: keep stimuli clear of the edge); the "edge" pair is closer, for the
 #: cases that check both sides of the CDT
 IDLE, GAP = "3*CDT", "0.5*CDT"
-UNDER, OVER = "0.7*CDT", "1.4*CDT"
+UNDER, OVER = "0.6*CDT", "1.4*CDT"
 #: the receive errors an ASCII driver may enter for a damaged or cut frame (Table 8-1):
 #: which one is the manual's is derived (16#0806 CDT, 16#080A no room, 16#080C character
 #: error, 16#0816 too long), so a case that needs "an error" accepts each of them

@@ -23,7 +23,7 @@ def cases(p):
         receive_case(p, "CDT.GAP-MERGES", "Bursts less than the CDT apart are one frame", REF,
                      "Frames separated by less than the CDT merge into one: the CDT must expire between two frames.",
                      [send(b), send(c, at=GAP)], [b + c], timing_sensitive=True),
-        receive_case(p, "CDT.EDGE-UNDER", "Gaps of 0.7 CDT between all characters keep one frame", REF + "; Table 2-7",
+        receive_case(p, "CDT.EDGE-UNDER", "Gaps of 0.6 CDT between all characters keep one frame", REF + "; Table 2-7",
                      "A gap shorter than the CDT does not end the frame, however often it occurs.",
                      [send(a, gap=UNDER)], [a], timing_sensitive=True),
         receive_case(p, "CDT.EDGE-OVER", "A gap of 1.4 CDT ends the frame", REF + "; Table 2-7",
@@ -47,12 +47,12 @@ def cases(p):
             p, "CDT.TRANSPARENT", "Every code is data with the CDT criterion and no XON/XOFF",
             "§2.2.4 'code transparency'; " + REF,
             "The CDT criterion without XON/XOFF is code-transparent: every code the character frame carries is data.",
-            [send(t)], [t]))
+            [send(t)], [t], timing_sensitive=True))
         big = data(p, 1024)
         out.append(receive_case(p, "CDT.MAX-1024", "A frame of 1024 bytes is received whole",
                                 "§2.2.4; Table A-7; Table 6-3 LEN 1..1024",
                                 "The longest frame, 1024 bytes, is delivered whole; sent back, it has no gap inside.",
-                                [send(big)], [big]))
+                                [send(big)], [big], timing_sensitive=True))
     if quiet_flow(p):
         # the frame is complete only once the CDT has passed after its last character
         out.append(receive_case(

@@ -52,7 +52,7 @@ def cases(p):
                      "Characters without an end character are merged with the next frame when it starts before the CDT "
                      "expires; the frame ends at its end character.",
                      [send(d1), send(f2, at=GAP)], [d1 + f2], timing_sensitive=True),
-        receive_case(p, "EC.EDGE-UNDER", "Gaps of 0.7 CDT inside a frame are allowed", REF,
+        receive_case(p, "EC.EDGE-UNDER", "Gaps of 0.6 CDT inside a frame are allowed", REF,
                      "The CDT watchdog does not cut a frame whose characters come less than the CDT apart.",
                      [send(f1, gap=UNDER)], [f1], timing_sensitive=True),
         receive_case(p, "EC.EDGE-OVER", "A gap of 1.4 CDT inside a frame discards its first part", REF + "; Table 8-1 (08)06H",

@@ -20,7 +20,7 @@ def cases(p):
         receive_case(p, "FL.BACK-TO-BACK", "2N characters without a gap are two frames", REF,
                      "The N-th character completes a frame at once; the next character begins a new frame.",
                      [send(a + b)], [a, b]),
-        receive_case(p, "FL.EDGE-UNDER", "Gaps of 0.7 CDT inside a frame are allowed", REF,
+        receive_case(p, "FL.EDGE-UNDER", "Gaps of 0.6 CDT inside a frame are allowed", REF,
                      "The CDT watchdog does not cut a frame whose characters come less than the CDT apart.",
                      [send(a[:3], gap=UNDER)] + ([send(a[3:], at=UNDER)] if n > 3 else []), [a],
                      timing_sensitive=True),

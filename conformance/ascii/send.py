@@ -71,7 +71,8 @@ def cases(p):
                 REF + " (end criterion end character, variant 1)",
                 "With the variant 'up to and including the end character' the data after the end character is not "
                 "sent, even when LEN is larger.",
-                "send", "sender", [expect(send_bytes(job, p), within="STARTUP", note="the job " + job.hex(" ").upper()),
+                "send", "sender", [expect(send_bytes(job, p), after="-1*STARTUP", within="STARTUP",
+                                          note="the job " + job.hex(" ").upper()),
                                    silence("3*CDT", note="the rest of the job is not sent")],
                 requires=(), setup=_job([job])))
         if no_flow(p):
@@ -79,7 +80,8 @@ def cases(p):
             out.append(receive_case(p, "TX.LEN-1024", "A frame of 1024 bytes is received and sent back whole",
                                     "§2.2.4; Table 6-2 LEN 1..1024; Table A-7",
                                     "The longest frame, 1024 bytes with its end character(s), is received and sent back "
-                                    "without a gap inside.", [send(big)], [big], group="send", role="both"))
+                                    "without a gap inside.", [send(big)], [big], group="send", role="both",
+                                    timing_sensitive=True))
     if crit == "cdt":
         one = data(p, 1)
         out.append(receive_case(p, "TX.LEN-1", "A frame of one byte", "Table 6-2 LEN 1..1024; " + REF,
@@ -90,7 +92,7 @@ def cases(p):
             p, f"TX.LEN-{label}-REFUSED", f"A send job of LEN {label} is refused", "Table 6-2 LEN; Table 8-2 (1E)41H",
             "LEN must be 1..1024: a job outside is refused with 16#1E41, nothing of it is sent, and the next job "
             "goes out.", "send", "sender",
-            [expect(send_bytes(ok, p), within="STARTUP", note="the next job"), silence("3*CDT")],
+            [expect(send_bytes(ok, p), after="-1*STARTUP", within="STARTUP", note="the next job"), silence("3*CDT")],
             status=["16#1E41"], requires=(), setup=_job([data(p, n, 3), ok])))
     return out
 
