@@ -740,6 +740,9 @@ def _divergent_rule(v: Vector, res: R.CaseResult) -> tuple[str, str]:
         if note:
             rule, _, codes = note.partition(" [STATUS ")
             return rule, codes.rstrip("]")
+    if res.divergence is not None and v.expected.echo_after and any(
+            w in (res.divergence.expected or "") for w in ("echo", "block(s)")):
+        return "the frames (blocks) sent back are those of a conforming IUT", ""
     return "after the exchange the line stays quiet (no spurious bytes)", ""
 
 
