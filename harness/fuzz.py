@@ -7,7 +7,7 @@ crossing STX or silence; interrupt its block; send blocks with wrong BCCs, chara
 errors, gaps over CDT...). The result is an ordinary vector: the tester's stimuli and, as
 expectations, what the model did, with windows derived from why it did it. The vector is
 run against the IUT; a divergence is a finding, confirmed by a second run, and not a
-finding when a model with another defensible reading of the manual (3964r.md §17) would
+finding when a model with another defensible reading of the manual (docs/readings.md) would
 have done what the IUT did. Hypothesis shrinks every finding to a minimal transcript,
 which is written out as a vector (``vectors/regressions/``).
 
@@ -51,57 +51,19 @@ FUZZ_PROFILES = ("ptpcert-quick", "ptpcert-thorough")
 
 
 # ------------------------------------------------------------------ rules the expectations stand for
-_SETUP_FAIL = ("setup_refused", "setup_timeout", "setup_invalid_character")
-_TX_FAIL = ("send_refused", "release_refused", "release_timeout", "release_invalid_character",
-            "dle_during_send", "abort_nak")
-_RX_END = ("bcc_received", "end_of_text", "character_timeout", "bcc_invalid_character")
-_RESUME = ("release_acknowledged", "repetition_timeout", "partner_gave_up", "abandon_reception", "abort_job",
-           "no_buffer", "quiet_nak", "report_break", "bcc_received", "end_of_text")
-BLOCK_RULE = "§7.2 item 1: after the partner's DLE the block: data with each DLE doubled, DLE ETX [BCC]"
+#: every rule an expectation can name: the rows and decision outcomes of the table that send
+_RULES = sorted({T.rule_text(e) for e in [r for _, _, r in T.rows()] + [b for _, b in T.branches()] if e.rule},
+                key=len, reverse=True)
+BLOCK_RULE = T.rule_text(T.TABLE[T.WAIT_SETUP_ACK][T.DLE])
+UNEXPLAINED_RULE = "the reference model's behaviour"
 
 
 def rule_for(actions: list[str], byte: int) -> str:
     """The manual's rule that makes a conforming station send ``byte`` after running
-    ``actions`` (table rows, newest last)."""
-    last = actions[-1] if actions else ""
-    if "setup_acknowledged" in actions:
-        return BLOCK_RULE
-    if "send_startup_nak" in actions:
-        return "§6: one NAK at start-up"
-    if byte == 0x10:
-        if last in ("begin_reception", "repetition_begins") or "begin_reception" in actions[-2:]:
-            return "§8.2 item 1: STX is answered with DLE"
-        if "initialization_conflict" in actions:
-            return "§9 item 3: a low-priority station defers and answers the partner's STX with DLE"
-        if "buffer_freed" in actions:
-            return "§8.2 item 2: DLE as soon as a receive buffer is free"
-        if any(a in _RX_END for a in actions):
-            return "§8.4: a block received without error is acknowledged with DLE"
-    if byte == 0x15:
-        if "quiet_nak" in actions:
-            return "§8.1 item 3: a stray character is answered with NAK once the line is quiet for CDT"
-        if "abort_nak" in actions:
-            return "§7.2 item 4: after a character during its block the sender waits for CDT of quiet, then NAK"
-        if "no_buffer" in actions:
-            return "§8.2 item 2: with no free buffer the STX is answered with NAK after 400 ms"
-        if any(a in _SETUP_FAIL for a in actions):
-            return "§7.1 item 6: after the last setup attempt the sender sends NAK and gives up"
-        if any(a in _TX_FAIL for a in actions):
-            return "§7.5: after the last transmission attempt the sender sends NAK and gives up"
-        if "character_timeout" in actions:
-            return "§8.3 item 5: CDT exceeded in a reception: NAK"
-        if any(a in _RX_END for a in actions) or "dle_followed_by_other" in actions:
-            return "§8.3-8.4: a block with an error (BCC, character error, DLE sequence, length) is refused with NAK"
-    if byte == 0x02:
-        if any(a in _SETUP_FAIL for a in actions):
-            return "§7.1 items 3-5: a failed setup attempt is repeated with STX"
-        if any(a in _TX_FAIL for a in actions):
-            return "§7.3-7.4: a failed transmission attempt starts again with STX"
-        if "start_job" in actions:
-            return "§7.1 item 1: a send job starts with STX"
-        if any(a in _RESUME for a in actions):
-            return "§8.1 item 6, §9 item 3: a waiting send job starts with STX once the station is idle"
-    return "the reference model's behaviour (§2.2; Figs. 2-9 to 2-12)"
+    ``actions`` (the table row's action and the decisions taken, as the station's explain log
+    records them): the rule and reference of the row or decision outcome that sends it."""
+    element = T.rule_for(actions, byte)
+    return UNEXPLAINED_RULE if element is None else T.rule_text(element)
 
 
 def _note(rule: str, codes) -> str:
@@ -193,7 +155,7 @@ class CoSim:
             horizon = max(last, self.t) + quiet
             if d is None or d > horizon:
                 self.advance(horizon)
-                if not self.st._tx:
+                if not self.st.transmitting:
                     return
             else:
                 self.advance(d)
@@ -205,13 +167,13 @@ class CoSim:
         to one of the IUT's deadlines (a timer, the end of its transmission) that a real
         process could see the two in either order: then the deadline runs out first and the
         stimulus follows what it caused. Returns the start and the delay the vector states."""
-        inf = float("inf")
         while True:
             self.flush_expectations()
             start = max(self.ref + at, self.t)
             arrival = start + self.char
-            near = [d for d in (self.st._timer_at, self.st._tx_done_at)
-                    if d != inf and arrival - self.edge_margin < d < arrival + self.edge_margin]
+            timer, done = self.st.timer, self.st.block_done_at
+            near = [d for d in (timer[1] if timer else None, done)
+                    if d is not None and arrival - self.edge_margin < d < arrival + self.edge_margin]
             if not near:
                 return start, start - self.ref
             self.advance(max(near) + self.edge_margin)
@@ -470,7 +432,7 @@ class Generator:
 
     def _answer(self, sim: CoSim, data, where: str) -> None:
         p = self.p
-        sim.advance(max(sim.t, sim.st._tx_free_at))  # the IUT's STX / block is completely out
+        sim.advance(max(sim.t, sim.st.busy_until))  # the IUT's STX / block is completely out
         how = self._refusal(sim, data, where)
         if how is None:
             how = data.draw(st.sampled_from(["dle", "dle", "nak", "other", "silence", "stx"]
@@ -504,19 +466,20 @@ class Generator:
         else:
             how = data.draw(st.sampled_from(["nothing", "nak", "other"] + (["break"] if self.line else [])),
                             label="interrupt")
-        body = st_._body(st_.job.payload) if st_.job else b""
-        start = st_._tx_done_at - len(body) * p.char_time
-        if how == "nothing" or p.char_time == 0 or len(body) < 16 or st_._tx_done_at == float("inf"):
-            sim.advance(st_._tx_done_at if st_._tx_done_at != float("inf") else sim.t)
+        body = st_.block_body(st_.job.payload) if st_.job else b""
+        end = st_.block_done_at
+        if how == "nothing" or p.char_time == 0 or len(body) < 16 or end is None:
+            sim.advance(end if end is not None else sim.t)
             return
+        start = end - len(body) * p.char_time
         done = max(1, int(round((sim.t - start) / p.char_time)))
         if done > len(body) - 12:
-            sim.advance(st_._tx_done_at)
+            sim.advance(end)
             return
         k = data.draw(st.integers(done, len(body) - 12), label="interrupt after")
         window = body[k:k + 64]
         if 0x02 in window or 0x15 in window:
-            sim.advance(st_._tx_done_at)
+            sim.advance(end)
             return
         sim.advance(start + k * p.char_time + 1e-9)   # the k-th byte of the block is complete
         sim.flush_expectations()
@@ -524,7 +487,7 @@ class Generator:
             sim.brk(20 * p.char_time)
         else:
             sim.send(b"\x15" if how == "nak" else b"\x42", note="NAK" if how == "nak" else "another character")
-        sim.advance(max(sim.t, st_._popped_end, st_._tx_free_at if st_.state is not T.SEND_DATA else sim.t))
+        sim.advance(max(sim.t, st_.popped_until, st_.busy_until if st_.state is not T.SEND_DATA else sim.t))
         rest_sent = [o for o in sim.outs if o.rule == BLOCK_RULE]
         sim.outs = [o for o in sim.outs if o.rule != BLOCK_RULE]
         sim.steps.append(Step("expect", body[k:], partial=True, after=Expr("-24*CHAR"), within=Expr("4*CHAR"),
@@ -547,11 +510,11 @@ class Generator:
                 if data is not None:
                     self._answer(sim, data, "setup" if s == T.WAIT_SETUP_ACK else "release")
                 else:
-                    sim.advance(max(sim.t, st_._tx_free_at))
+                    sim.advance(max(sim.t, st_.busy_until))
                     sim.send(b"\x10", note="DLE (the tester accepts)")
             elif s == T.SEND_DATA and data is not None:
                 self._interrupt_block(sim, data)
-            elif s in (T.IDLE, T.WAIT_REPETITION) and not st_._tx and st_.pending_jobs == 0:
+            elif s in (T.IDLE, T.WAIT_REPETITION) and not st_.transmitting and st_.pending_jobs == 0:
                 break
             else:
                 d = st_.next_deadline()
@@ -624,9 +587,17 @@ class Campaign:
     max_case_seconds: float | None = None
     _unshrunk: Finding | None = None
     _shrink_until: float = 0.0
+    #: divergences already tried against the other readings (shrinking meets them again)
+    _explained: dict = field(default_factory=dict)
 
     def _run_vector(self, v: Vector) -> R.CaseResult:
         return self.runner.run_case(v)
+
+    def _release(self) -> None:
+        """Stop the IUT processes the transport started ahead, where it does."""
+        release = getattr(self.runner.factory, "release", None)
+        if release is not None:
+            release()
 
     @property
     def kit(self) -> "FuzzKit":
@@ -658,6 +629,7 @@ class Campaign:
                 if campaign._unshrunk is None and now >= end:
                     raise _BudgetOver          # generating: the budget is spent
                 if campaign._unshrunk is not None and now >= max(end, campaign._shrink_until):
+                    campaign._release()        # no IUT is needed any more in this round
                     return                     # shrinking has had its time: keep what it has
                 sim = gen(data)
                 # examples that make the IUT wait out T_BLOCK (4 s) cost more real time than
@@ -669,7 +641,8 @@ class Campaign:
                 res = campaign._run_vector(v)
                 if res.verdict != R.FAIL:
                     return
-                res2 = campaign._run_vector(v)            # confirm: real time can glitch once
+                # confirm: real time can glitch once (virtual time cannot)
+                res2 = res if getattr(campaign.runner.factory, "virtual", False) else campaign._run_vector(v)
                 if res2.verdict != R.FAIL:
                     return
                 alt = campaign._alternative(v, res2)
@@ -711,6 +684,8 @@ class Campaign:
                     self.findings.append(finding)
                     if self.progress:
                         self.progress(finding.describe())
+            finally:
+                self._release()   # between rounds no IUT waits: each is started for its example
             rnd += 1
             if self.progress:
                 self.progress(f"[{time.monotonic() - self.started:6.1f} s] examples {self.examples}, "
@@ -718,32 +693,61 @@ class Campaign:
         return self.findings
 
     def _alternative(self, v: Vector, res: R.CaseResult) -> str | None:
-        """The open point of the manual (3964r.md §17) whose other reading explains the
+        """The open point of the manual (docs/readings.md) whose other reading explains the
         divergence, if any: a model with that reading, run through the same vector, departs
         from it at the same step in the same way as the IUT did."""
-        if res.divergence is None:
-            return None
+        d0 = res.divergence
+        key = (d0.expected, d0.observed) if d0 is not None else res.message
+        if key not in self._explained:
+            self._explained[key] = self._try_alternatives(v, res)
+        return self._explained[key]
+
+    def _try_alternatives(self, v: Vector, res: R.CaseResult) -> str | None:
         from .transport import sim_factory
         proc = self.profile.procedure
+        app = "echo" if self.profile.echo else "none"
+        if app not in proc.apps():
+            app = proc.apps()[0]
         for name, change in self.kit.alternatives:
             readings = replace(self.kit.readings, **change)
-            factory = sim_factory(proc, {"app": "echo" if self.profile.echo else "none"}, readings=readings)
-            alt = Runner(factory, self.profile, RunOptions(check_status=False)).run_case(v)
+            factory = sim_factory(proc, {"app": app}, readings=readings)
+            alt = Runner(factory, self.profile, RunOptions(check_status=self.kit.check_reports)).run_case(v)
             d = alt.divergence
-            if d is not None and d.step == res.divergence.step and d.observed == res.divergence.observed:
+            if res.divergence is None:
+                # a divergence in what the IUT reported (STATUS, request results), not on the wire
+                if d is None and alt.verdict == R.FAIL and alt.message == res.message:
+                    return name
+            elif d is not None and d.step == res.divergence.step and d.observed == res.divergence.observed:
                 return name
         return None
 
 def _divergent_rule(v: Vector, res: R.CaseResult) -> tuple[str, str]:
-    if res.divergence is not None and 0 <= res.divergence.step < len(v.steps):
-        note = v.steps[res.divergence.step].note
+    from .scenario import expand
+    steps = expand(v)   # the divergence's step counts the expanded steps (macros unfolded)
+    if res.divergence is not None and 0 <= res.divergence.step < len(steps):
+        note = steps[res.divergence.step].note
         if note:
-            rule, _, codes = note.partition(" [STATUS ")
-            return rule, codes.rstrip("]")
+            return rule_of_note(note)
     if res.divergence is not None and v.expected.echo_after and any(
             w in (res.divergence.expected or "") for w in ("echo", "block(s)")):
         return "the frames (blocks) sent back are those of a conforming IUT", ""
+    if res.divergence is None and res.message.startswith("reported: "):
+        return "the IUT's results of its requests follow from the exchange: " + res.message[10:], ""
+    if res.divergence is None and res.message.startswith("STATUS: "):
+        return "the IUT reports the STATUS events the exchange raises: " + res.message[8:], res.message[8:]
     return "after the exchange the line stays quiet (no spurious bytes)", ""
+
+
+def rule_of_note(note: str) -> tuple[str, str]:
+    """The rule an expectation's note names (one of the table's, when a rule of the model
+    made it) and the STATUS codes it lists."""
+    rule = next((r for r in _RULES if note.startswith(r)), None)
+    if rule is None:   # a note the generator wrote itself ("the IUT stops sending its block")
+        rule = note.partition(" [STATUS ")[0]
+    codes = note[len(rule):].strip()
+    if codes.startswith("[STATUS ") and codes.endswith("]"):
+        return rule, codes[len("[STATUS "):-1]
+    return rule, ""
 
 
 def export(findings: list[Finding], directory: str | Path) -> list[Path]:
@@ -771,6 +775,9 @@ class FuzzKit:
     generator: Callable
     readings: object
     alternatives: tuple[tuple[str, dict], ...]
+    #: the examples' expectations include what the IUT reports (STATUS and, for RK 512, the
+    #: request results): the campaign checks them where the profile says the IUT reports
+    check_reports: bool = False
 
 
 KIT_3964 = FuzzKit(Generator, READINGS, tuple(ALTERNATIVE_READINGS))

@@ -13,6 +13,7 @@ import os
 import select
 import sys
 import time
+from itertools import groupby
 
 from .model.events import Delivered, SendDone, SendFailed, Status
 from .driver import Endpoint, drive_station
@@ -85,61 +86,41 @@ class StdioEndpoint(Endpoint):
 
 
 class SerialEndpoint(Endpoint):
-    """A pyserial port as the line (``--port``). On a real tty device with ``--parmrk`` the
-    kernel marks breaks and parity errors (termios PARMRK); on a pseudo-terminal the marks
-    come in-band from the other side."""
+    """A serial line as the line (``--port``: a device path or a pyserial URL, opened as the
+    harness opens it). On a real tty device with ``--parmrk`` the kernel marks breaks and
+    parity errors (termios PARMRK); on a pseudo-terminal the marks come in-band from the
+    other side."""
 
     def __init__(self, url: str, params, parmrk: bool):  # params: the line's settings
-        import serial
+        from .transport.serialport import SerialLine
 
-        parity = {"none": serial.PARITY_NONE, "odd": serial.PARITY_ODD, "even": serial.PARITY_EVEN}[params.parity]
-        try:
-            self.port = serial.serial_for_url(url, baudrate=params.baud_rate or 9600,
-                                              bytesize=params.data_bits, parity=parity,
-                                              stopbits=params.stop_bits, timeout=0)
-        except (serial.SerialException, ValueError) as exc:
-            raise SystemExit(f"ptpcert iut: cannot open {url}: {exc}")
-        self.fd = None
-        try:
-            self.fd = self.port.fileno()
-        except Exception:
-            self.fd = None
-        if parmrk and self.fd is not None and os.isatty(self.fd) and not _is_pty(self.fd):
+        self.line = SerialLine(url, params)   # TransportError: not a serial URL we support
+        self.line.open()                      # TransportError: cannot be opened
+        fd = self.line.fd
+        if parmrk and fd is not None and os.isatty(fd) and not self.line.pty:
             import termios
-            attrs = termios.tcgetattr(self.fd)
+            attrs = termios.tcgetattr(fd)
             attrs[0] |= termios.PARMRK | termios.INPCK
             attrs[0] &= ~(termios.IGNPAR | termios.IGNBRK | termios.BRKINT | termios.ISTRIP)
-            termios.tcsetattr(self.fd, termios.TCSANOW, attrs)
+            termios.tcsetattr(fd, termios.TCSANOW, attrs)
         self.decoder = ParmrkDecoder(parmrk)
 
     def now(self) -> float:
         return time.monotonic()
 
     def poll(self, deadline: float) -> list[tuple[float, str, int]]:
-        remaining = None if deadline == float("inf") else max(0.0, deadline - time.monotonic())
-        if self.fd is not None:
-            r, _, _ = select.select([self.fd], [], [], remaining)
-            if not r:
-                return []
-            data = self.port.read(max(1, self.port.in_waiting))
-        else:
-            self.port.timeout = 0.05 if remaining is None else min(remaining, 0.05)
-            data = self.port.read(max(1, self.port.in_waiting))
-        if not data:
-            return []
-        return self.decoder.feed(time.monotonic(), data)
+        from .transport.base import TransportError
+        try:
+            items = self.line.read(deadline)
+        except TransportError:
+            raise EOFError from None   # the line has gone (a device unplugged, a server closed)
+        out: list[tuple[float, str, int]] = []
+        for t, group in groupby(items, key=lambda item: item[0]):
+            out += self.decoder.feed(t, bytes(b for _, b in group))
+        return out
 
     def write(self, data: bytes) -> float:
-        t = time.monotonic()
-        self.port.write(data)
-        return t
-
-
-def _is_pty(fd: int) -> bool:
-    try:
-        return os.ttyname(fd).startswith("/dev/pts/")
-    except OSError:
-        return False
+        return self.line.write(data)
 
 
 def run_iut(host, line, *, parmrk: bool, port: str | None = None, verbose: bool = False) -> int:
@@ -147,7 +128,15 @@ def run_iut(host, line, *, parmrk: bool, port: str | None = None, verbose: bool 
     ``port``, with the line settings ``line``. Every STATUS event goes to stderr as
     ``STATUS 16#XXXX``; an application may report more lines (``host.report_line(event)``)."""
     station = host.station
-    ep: Endpoint = SerialEndpoint(port, line, parmrk) if port else StdioEndpoint(parmrk=parmrk)
+    if port:
+        from .transport.base import TransportError
+        try:
+            ep: Endpoint = SerialEndpoint(port, line, parmrk)
+        except TransportError as exc:
+            print(f"ptpcert iut: {exc}", file=sys.stderr)
+            return 2
+    else:
+        ep = StdioEndpoint(parmrk=parmrk)
     err = sys.stderr
     report = getattr(host, "report_line", None)
 

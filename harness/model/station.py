@@ -21,7 +21,14 @@ first (a character that completed exactly at the deadline started before it). Dr
 therefore deliver the inputs of an instant before calling :meth:`handle_timer` for it.
 
 What the station does in each state is the transition table in :mod:`.table`; this module
-implements its actions (``_a_<name>``) and decisions (``_d_<name>``).
+implements its actions (``_a_<name>``) and decisions (``_d_<name>``). An action never picks
+the next state: the row's target does, or the decision it names.
+
+Tools that watch a station (the fuzzer, the runner, links) use its public properties
+(:attr:`transmitting`, :attr:`busy_until`, :attr:`popped_until`, :attr:`block_done_at`,
+:attr:`timer`, :attr:`has_events`) and :meth:`block_body`, never its private fields. A broken
+variant (``ptpcert.mutants``) is a subclass that overrides protected hooks: actions,
+decisions, :meth:`_body`, :meth:`_durations`, the attempt limits.
 """
 
 from __future__ import annotations
@@ -37,6 +44,9 @@ from .events import Delivered, Event, SendDone, SendFailed, Status
 from .params import T_BLOCK, T_NAKTIM, Params3964
 from .readings import READINGS, Readings
 
+# the method of each action and decision, named once (not built per input)
+_ACT = {a: "_a_" + a for a in T.Action}
+_DECIDE = {d: "_d_" + d.lower() for d in T.DECISIONS}
 _CLASS = [T.OTHER] * 256
 _CLASS[STX], _CLASS[DLE], _CLASS[ETX], _CLASS[NAK] = T.STX, T.DLE, T.ETX, T.NAK
 _END = bytes((DLE, ETX))
@@ -58,6 +68,10 @@ def _xor(data: bytes) -> int:
         v = (v & ((1 << (8 * half)) - 1)) ^ (v >> (8 * half))
         width = half
     return v & 0xFF
+
+
+#: Fig. 2-12 "W > 5 / W <= 5": the receptions of one block the figure allows (the alternative of A18)
+FIG_2_12_RECEPTIONS = 6
 
 
 class ModelError(RuntimeError):
@@ -91,8 +105,7 @@ class Station3964:
         p = self.params
         self._char = p.char_time
         self._grace = p.char_time if readings.timer_grace_one_character else 0.0
-        self._cdt = p.cdt
-        self._adt = p.adt
+        self._cdt, self._adt = self._durations()
         # timer: one at a time (the flowcharts never run two)
         self._timer: str | None = None
         self._timer_at = inf
@@ -124,12 +137,13 @@ class Station3964:
         self._cdt_timeout = False
         self._in_end_sequence = False
         self._dle_etx_done_at = inf
-        self._override: str | None = None
         self.trace: list[tuple] | None = [] if trace else None
         #: A real-time driver that wakes up after a deadline sets this: the station then acts
         #: at the time it is told (when its bytes really go out), not at the deadline, so a
         #: late wake-up delays what follows instead of shortening the next interval.
         self.late_timers_act_now = False
+        #: With ``trace=True`` every input is recorded as (now, state, input, action, new
+        #: state, ((decision, outcome), ...)) and every timer start as (now, "timer", name, at).
         #: With ``explain=True`` the station records why it sends what it sends: one entry
         #: per transmission, [start, end, input, actions] (the table row's action and the
         #: decisions taken), for tools that explain a transcript (the fuzzer, reports).
@@ -170,7 +184,7 @@ class Station3964:
         self._input(T.INVALID, value)
 
     def line_break(self, now: float) -> None:
-        """A BREAK condition on the receive line (§10 item 5)."""
+        """A BREAK condition on the receive line (§2.2.2 Error handling)."""
         self._at(now, strict=True)
         self._input(T.BREAK)
 
@@ -272,6 +286,44 @@ class Station3964:
     def pending_jobs(self) -> int:
         return len(self._jobs) + (self.job is not None) + (self.deferred is not None)
 
+    @property
+    def transmitting(self) -> bool:
+        """Bytes are scheduled that :meth:`pop_output` has not handed out yet."""
+        return bool(self._tx)
+
+    @property
+    def busy_until(self) -> float:
+        """When the transmitter will have sent everything scheduled so far (-inf before the
+        first transmission)."""
+        return self._tx_free_at
+
+    @property
+    def popped_until(self) -> float:
+        """When the last byte handed out by :meth:`pop_output` has left the line."""
+        return self._popped_end
+
+    @property
+    def block_done_at(self) -> float | None:
+        """While a block is being sent (state SEND_DATA): when its last byte will have left
+        the transmitter (the TX_DONE input); otherwise None."""
+        t = self._tx_done_at
+        return None if t == inf else t
+
+    @property
+    def timer(self) -> tuple[str, float] | None:
+        """The running timer (the flowcharts never run two) as (name, deadline), or None."""
+        return None if self._timer is None else (self._timer, self._timer_at)
+
+    @property
+    def has_events(self) -> bool:
+        """Events are waiting for :meth:`pop_events`."""
+        return bool(self._events)
+
+    def block_body(self, payload: bytes) -> bytes:
+        """What this station sends after the partner's DLE for ``payload``: the data with
+        every DLE doubled, DLE ETX and, for 3964R, the BCC (a broken variant's own, if any)."""
+        return self._body(bytes(payload))
+
     # ================================================================== time
     def _at(self, now: float, strict: bool) -> None:
         """Move the clock to ``now`` and handle the deadlines before it (``strict``) or up
@@ -370,18 +422,22 @@ class Station3964:
         if row.action is T.IMPOSSIBLE:
             raise ModelError(f"{self.name}: input {inp} cannot occur in state {old}")
         self._timer_started = False
-        self._override = None
         if self.tx_log is not None:
             self._why = (inp, [row.action])
-        getattr(self, "_a_" + row.action)(value)
-        target = self._override or row.target
-        while target in T.DECISION_TARGETS:
+        action = row.action
+        getattr(self, _ACT.get(action) or "_a_" + action)(value)
+        target = row.target
+        decided = None
+        while target in _DECIDE:
             if self.tx_log is not None:
                 self._why[1].append(target)
-            target = getattr(self, "_d_" + target.lower())()
+            outcome = getattr(self, _DECIDE[target])()
+            if self.trace is not None:
+                decided = (decided or ()) + ((target, outcome),)
+            target = outcome
         new = old if target is T.SAME else target
         if self.trace is not None:
-            self.trace.append((self.now, old, inp, row.action, new))
+            self.trace.append((self.now, old, inp, row.action, new, decided or ()))
         if new is not old and not self._timer_started:
             self._stop_timer()
         self.state = new
@@ -431,15 +487,17 @@ class Station3964:
         if self.deferred is not None:
             job, self.deferred = self.deferred, None
             if self.readings.a21_conflict_counts_collided_stx:
-                job.x += 1
-                if job.x > self._setup_limit():
-                    self.job = job
-                    self._override = T.SETUP_CHECK
-                    return
+                job.x += 1  # the collided STX was setup attempt 1 (Fig. 2-8, A21)
         else:
             job = Job(self._jobs.popleft())
         self.job = job
+
+    def _d_start_check(self) -> str:
+        # only a deferred job can start with X > 1 (A21); a new one has X = 1
+        if self.job.x > 1 and self.job.x > self._setup_limit():
+            return T.SETUP_CHECK
         self._send_stx()
+        return T.WAIT_SETUP_ACK
 
     def _send_stx(self) -> None:
         self.job.stx_sent += 1
@@ -498,9 +556,13 @@ class Station3964:
     def _d_priority(self) -> str:
         return T.WAIT_SETUP_ACK if self.params.priority == "high" else T.RECEIVE_ENTRY
 
+    def _durations(self) -> tuple[float, float]:
+        """The CDT and ADT this station applies: the parameters' (Table 2-4)."""
+        return self.params.cdt, self.params.adt
+
     def _body(self, payload: bytes) -> bytes:
         """What follows the partner's DLE: the data with every DLE doubled, DLE ETX and, for
-        3964R, the BCC over all of it (§3, §4.1)."""
+        3964R, the BCC over all of it (§2.2.2 Control characters, Block check character)."""
         stuffed = stuff(payload)
         body = stuffed + _END
         if self.params.has_bcc:
@@ -610,20 +672,30 @@ class Station3964:
         self._send(bytes((NAK,)))
 
     def _a_setup_garbage(self, _v: int) -> None:
-        # A16: give up the setup; IDLE_JUNK sends the NAK and raises 16#0802.
-        self._start_timer(T.T_CDT, self._cdt)
+        pass  # what follows is the A16 decision
+
+    def _d_abandon_setup(self) -> str:
+        if self.readings.a16_garbage_during_buffer_wait_quiet_nak:
+            # give up the setup; IDLE_JUNK sends the NAK and raises 16#0802
+            self._start_timer(T.T_CDT, self._cdt)
+            return T.IDLE_JUNK
+        self._emit(Status(self.now, ev.RX_SETUP_ERROR, "receive"))
+        self._timer_started = True  # T_NAKTIM keeps running
+        return T.WAIT_BUFFER
 
     def _note(self, code: int) -> None:
         if self._noted is None:
             self._noted = code
 
-    def _store(self, b: int) -> None:
+    def _store(self, b: int, in_bcc: bool = True) -> None:
+        """Keep one received data byte (``in_bcc``: and count it in the running BCC)."""
         if len(self._buf) < MAX_BLOCK:
             self._buf.append(b)
         elif not self._overflow:
             self._overflow = True
             self._note(ev.FRAME_TOO_LONG)
-        self._x ^= b
+        if in_bcc:
+            self._x ^= b
         self._timer, self._timer_at = T.T_CDT, self.now + self._cdt + self._grace
 
     def _store_run(self, run: bytes) -> None:
@@ -653,9 +725,12 @@ class Station3964:
     def _a_dle_followed_by_other(self, v: int) -> None:
         self._note(ev.RX_LOGICAL_ERROR)
         self._x ^= v
-        self._start_timer(T.T_CDT, self._cdt)
-        if not self.readings.a11_deferred_nak_after_dle_other:
-            self._override = T.NAK_CHECK
+
+    def _d_nak_at_once(self) -> str:
+        if self.readings.a11_deferred_nak_after_dle_other:
+            self._start_timer(T.T_CDT, self._cdt)  # keep receiving
+            return T.RECEIVE
+        return T.NAK_CHECK
 
     def _a_note_invalid_character(self, _v: int) -> None:
         self._note(ev.CHARACTER_ERROR)
@@ -704,7 +779,8 @@ class Station3964:
             self._emit(Status(self.now, ev.EXPECT_REPETITION, "receive"))
         timeout, self._cdt_timeout = self._cdt_timeout, False
         self._clear_reception()
-        limit = self.params.transmission_attempts
+        limit = (self.params.transmission_attempts if self.readings.a18_receiver_uses_own_attempt_limit
+                 else FIG_2_12_RECEPTIONS)
         if self.w_r >= limit or (timeout and not self.readings.a2_cdt_timeout_awaits_repetition):
             self._emit(Status(self.now, self._rx_first_error, "receive", final=True))
             return T.IDLE

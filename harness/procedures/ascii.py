@@ -254,7 +254,7 @@ class PAscii(Procedure):
         # reading Q15: an XON may also follow every read, not only an XOFF
         return bytes((params.xon,)) if params.flow_control == "xon_xoff" else b""
 
-    def unsupported(self, vector, capabilities: frozenset[str]) -> str | None:
+    def unsupported_reason(self, vector, profile, capabilities: frozenset[str], factory) -> str | None:
         if MODEM_LINES in vector.needs and MODEM_LINES not in capabilities:
             return ("needs the RS 232C modem lines (RTS, CTS, DTR, DSR), which no transport of this "
                     "harness carries")
