@@ -64,6 +64,13 @@ def drive_station(host, ep: Endpoint, *, stop: Callable[[], bool] | None = None,
             if r > now:  # a recheck time already past would only spin
                 wake = min(wake, r)
         for t, kind, value in ep.poll(wake):
+            # Input found on the first look after one of the station's deadlines has passed
+            # was waiting while the process was descheduled (or came with the deadline): it
+            # is taken as arriving at that deadline, so it goes before the timer (inputs of
+            # an instant before its deadlines). A timer that expired while the process was
+            # not running must not win over input that was already there.
+            if d is not None and t > d:
+                t = d
             st.line_event(max(t, st.now), kind, value)
         now = ep.now()
         d = st.next_deadline()
