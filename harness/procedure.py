@@ -60,6 +60,10 @@ class Procedure:
     time_names: tuple[str, ...] = ()
     #: the open points of the manual this procedure's model has readings for (e.g. A11)
     readings: tuple[str, ...] = ()
+    #: which of :attr:`time_names` are the IUT's own timers (None: all of them). A window
+    #: whose lower bound names one waits for what that timer causes; the profile's
+    #: ``timer_tolerance_ms`` widens its late side
+    iut_timers: tuple[str, ...] | None = None
     #: the capabilities a vector may ``require`` (besides those every procedure knows)
     requirements: tuple[str, ...] = ()
     #: names of the ``[iut.setups]`` entries its cases may use

@@ -18,7 +18,7 @@ from . import results as R
 from .model import codec
 from .model.events import Delivered, status_text
 from .profile import Profile
-from .scenario import Expr, Step, Vector, brief_hex, expand, timer_env
+from .scenario import Expr, Step, Vector, brief_hex, expand, names_in, timer_env
 from .driver import Endpoint, drive_station
 from .transport.base import (BREAK, CHAR_ERROR, NETWORK, RESTART, SETUPS, STATUS, IUTDied, Transport,
                              TransportError)
@@ -36,6 +36,10 @@ class Tolerance:
     late_abs: float     # ... and this much after it closes,
     late_rel: float     # ... plus this fraction of the window's nominal upper bound
     stimulus: float     # the tester's bytes may go out this late
+    #: how late an output that one of the IUT's own timers causes may come beyond the
+    #: above (the profile's declared ``timer_tolerance_ms``): widens only the late side of
+    #: a window whose lower bound is an IUT timer
+    iut_timer: float = 0.0
 
     def late(self, nominal: float) -> float:
         return self.late_abs + self.late_rel * max(nominal, 0.0)
@@ -128,6 +132,8 @@ class CaseRun:
         self.sent_end = self.t0
         self.mark_time = self.t0
         self.partner_delivered: list[bytes] = []
+        names = proc.iut_timers if proc.iut_timers is not None else proc.time_names
+        self.iut_timers = frozenset(names)
 
     # -- helpers -----------------------------------------------------------------------
     def rel(self, t: float) -> float:
@@ -275,6 +281,8 @@ class CaseRun:
         lo_nom, hi_nom = self.ev(step.after), self.ev(step.within)
         lo = self.ref + lo_nom - self.tol.early - self.tol.early_rel * max(lo_nom, 0.0)
         hi = self.ref + hi_nom + self.tol.late(hi_nom)
+        if self.tol.iut_timer and self._ends_on_iut_timer(step):
+            hi += self.tol.iut_timer
         what = brief_hex(step.data)
         if step.alternatives:
             what += " (or " + " or ".join(brief_hex(a) for a in step.alternatives) + ")"
@@ -344,6 +352,11 @@ class CaseRun:
                 self._grade(step.alt_grade, f"step {self.step_index + 1}: the IUT sent {codec.hexstr(matched)}")
         self.ref = last_t
         self.forced += max(lo_nom, 0.0) + len(matched) * self.char
+
+    def _ends_on_iut_timer(self, step: Step) -> bool:
+        """The window waits for what one of the IUT's own timers causes: its lower bound
+        names one (e.g. ``after = "CDT"``: a NAK due when the IUT's CDT runs out)."""
+        return bool(names_in(step.after) & self.iut_timers)
 
     def _grade(self, grade: str, why: str) -> None:
         if grade != R.PASS:
@@ -639,6 +652,8 @@ class Runner:
             res.verdict, res.message = R.ERROR, f"transport: {exc}"
             return "ok"
         tol = self.opts.tolerance or (VIRTUAL if tr.virtual else realtime_tolerance(v.proc, params, self.opts.late_ms))
+        if self.profile is not None and self.profile.timer_tolerance_ms:
+            tol = replace(tol, iut_timer=self.profile.timer_tolerance_ms / 1000.0)
         outcome = "ok"
         run: CaseRun | None = None
         info = None

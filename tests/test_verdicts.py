@@ -1,0 +1,108 @@
+"""Verdicts a certifier can sign (issue 10, the harness side): no false alarm from the
+harness's own timing, a declared accuracy of the IUT's timers, the readings of the manual's
+open points grading divergences, and one finding per defect in the reports."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from ptpcert.profile import ProfileError, reference_profile
+
+ROOT = Path(__file__).resolve().parent.parent
+PY = sys.executable
+PROFILE = ROOT / "conformance" / "profiles" / "reference-20ms.toml"
+FAKES = ROOT / "tests" / "fakes"
+
+
+def ptpcert(*args, timeout=240, **kw):
+    return subprocess.run([PY, "-m", "ptpcert.cli", *args], cwd=ROOT, capture_output=True, text=True,
+                          timeout=timeout, **kw)
+
+
+def profile_with(tmp_path, **iut) -> Path:
+    text = PROFILE.read_text()
+    extra = "".join(f"{k} = {json.dumps(v)}\n" for k, v in iut.items())
+    text = text.replace("status_from_stderr = true\n", "status_from_stderr = true\n" + extra, 1)
+    path = tmp_path / "profile.toml"
+    path.write_text(text)
+    return path
+
+
+def run(tmp_path, iut, profile, *select):
+    j = tmp_path / "r.json"
+    p = ptpcert("run", "--iut", iut, "--profile", str(profile), "--json", str(j),
+                *sum((["--select", s] for s in select), []))
+    return p, (json.loads(j.read_text()) if j.exists() else None)
+
+
+# -- [iut] timer_tolerance_ms ---------------------------------------------------------------
+
+def test_timer_tolerance_is_a_profile_key_with_a_default_of_zero():
+    assert reference_profile().timer_tolerance_ms == 0
+    p = reference_profile(timer_tolerance_ms=280)
+    assert p.timer_tolerance_ms == 280 and p.to_dict()["timer_tolerance_ms"] == 280
+    for bad in (-1, "300", True, float("nan"), 1e9):
+        with pytest.raises(ProfileError, match="iut.timer_tolerance_ms"):
+            reference_profile(timer_tolerance_ms=bad)
+
+
+def test_timer_tolerance_widens_only_the_late_side_of_windows_on_an_iut_timer():
+    from ptpcert.runner import RunOptions, Runner
+    from ptpcert.scenario import Expr, Step, Vector
+    from ptpcert.transport import sim_factory
+
+    prof = reference_profile(timer_tolerance_ms=300)
+    proc = prof.procedure
+
+    def case(*steps):
+        return Vector(id="T", title="t", reference="r", rule="r", group="receive", iut_role="receiver",
+                      params=prof.params, steps=tuple(steps), binds=())
+
+    def verdict(profile, v):
+        return Runner(sim_factory(proc), profile, RunOptions(check_status=False)).run_case(v).verdict
+
+    def nak(after, within):
+        return case(Step("send", b"\x02"), Step("expect", b"\x10", within=Expr("ADT")),
+                    Step("expect", b"\x15", after=Expr(after), within=Expr(within)))
+
+    # the model's NAK comes one character (the timer's grace) plus its own character time
+    # after its CDT has run out: a window closing at CDT is too short for it ...
+    assert verdict(reference_profile(), nak("CDT", "CDT + 2*CHAR")) == "pass"
+    assert verdict(reference_profile(), nak("CDT", "CDT")) == "fail"
+    # ... unless the IUT declares that its timers may act late: the window ends on its CDT
+    assert verdict(prof, nak("CDT", "CDT")) == "pass"
+    # a window whose lower bound is no IUT timer is not widened
+    assert verdict(prof, nak("0", "5ms")) == "fail"
+    # and the early side never: a NAK due no earlier than twice the CDT still fails
+    assert verdict(prof, nak("2*CDT", "3*CDT")) == "fail"
+
+
+def test_every_report_shows_the_timer_tolerance(tmp_path):
+    prof = profile_with(tmp_path, timer_tolerance_ms=250)
+    j, x, h = tmp_path / "r.json", tmp_path / "j.xml", tmp_path / "r.html"
+    p = ptpcert("run", "--iut", "sim:", "--profile", str(prof), "--json", str(j), "--junit", str(x),
+                "--html", str(h), "--select", "3964R.D06.*")
+    assert p.returncode == 0, p.stdout + p.stderr
+    assert "IUT timer tolerance: 250 ms" in p.stdout
+    assert json.loads(j.read_text())["profile"]["timer_tolerance_ms"] == 250
+    assert 'name="profile.timer_tolerance_ms" value="250.0"' in x.read_text()
+    assert "IUT timer tolerance" in h.read_text() and "250 ms" in h.read_text()
+    p = ptpcert("run", "--iut", "sim:", "--profile", str(PROFILE), "--select", "3964R.D06.*")
+    assert "IUT timer tolerance: 0 ms (none declared" in p.stdout
+
+
+@pytest.mark.realtime
+def test_a_polling_iut_late_on_its_cdt_passes_only_with_its_declared_tolerance(tmp_path):
+    """tests/fakes/polling.py answers its CDT timeout 280 ms late: beyond the harness's own
+    tolerance, within a declared 300 ms."""
+    iut = f"exec:{PY} {FAKES / 'polling.py'} 280"
+    cases = ("SUITE.RECEIVE.CDT-AFTER-DLE", "3964R.D06.*", "3964R.FIG2-6.RECEIVE")
+    p, data = run(tmp_path, iut, PROFILE, *cases)
+    v = {c["id"]: c["verdict"] for c in data["cases"]}
+    assert v == {"SUITE.RECEIVE.CDT-AFTER-DLE": "fail", "3964R.D06.NOTHING-AFTER-DLE": "fail",
+                 "3964R.FIG2-6.RECEIVE": "pass"}, p.stdout
+    p, data = run(tmp_path, iut, profile_with(tmp_path, timer_tolerance_ms=300), *cases)
+    assert p.returncode == 0 and {c["verdict"] for c in data["cases"]} == {"pass"}, p.stdout
