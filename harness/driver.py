@@ -63,7 +63,7 @@ def drive_station(host, ep: Endpoint, *, stop: Callable[[], bool] | None = None,
             r = recheck()
             if r > now:  # a recheck time already past would only spin
                 wake = min(wake, r)
-        for t, kind, value in ep.poll(wake):
+        for t, kind, value in _runs(ep.poll(wake)):
             # Input found on the first look after one of the station's deadlines has passed
             # was waiting while the process was descheduled (or came with the deadline): it
             # is taken as arriving at that deadline, so it goes before the timer (inputs of
@@ -78,3 +78,29 @@ def drive_station(host, ep: Endpoint, *, stop: Callable[[], bool] | None = None,
             st.handle_timer(now)
 
 
+
+
+def _runs(items: list[tuple[float, str, int]]) -> list[tuple[float, str, object]]:
+    """Consecutive bytes that arrived at one instant as one ``"bytes"`` event (a station
+    takes a run of data in one step; a 1024-byte block read at once costs one call, not
+    1024), every other item as it is."""
+    out: list[tuple[float, str, object]] = []
+    run = bytearray()
+    at = 0.0
+    for t, kind, value in items:
+        if kind == "byte" and (not run or t == at):
+            if not run:
+                at = t
+            run.append(value)
+            continue
+        if run:
+            out.append((at, "bytes" if len(run) > 1 else "byte", bytes(run) if len(run) > 1 else run[0]))
+            run = bytearray()
+        if kind == "byte":
+            at = t
+            run.append(value)
+        else:
+            out.append((t, kind, value))
+    if run:
+        out.append((at, "bytes" if len(run) > 1 else "byte", bytes(run) if len(run) > 1 else run[0]))
+    return out

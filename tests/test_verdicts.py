@@ -31,6 +31,15 @@ def profile_with(tmp_path, **iut) -> Path:
     return path
 
 
+def without_setups(tmp_path) -> Path:
+    """The reference profile for a stand-in that knows none of the reference's setups."""
+    text = PROFILE.read_text()
+    start = text.index("[iut.setups]")
+    path = tmp_path / "no-setups.toml"
+    path.write_text(text[:start] + text[text.index("[", start + 1):])
+    return path
+
+
 def run(tmp_path, iut, profile, *select):
     j = tmp_path / "r.json"
     p = ptpcert("run", "--iut", iut, "--profile", str(profile), "--json", str(j),
@@ -106,3 +115,35 @@ def test_a_polling_iut_late_on_its_cdt_passes_only_with_its_declared_tolerance(t
                  "3964R.FIG2-6.RECEIVE": "pass"}, p.stdout
     p, data = run(tmp_path, iut, profile_with(tmp_path, timer_tolerance_ms=300), *cases)
     assert p.returncode == 0 and {c["verdict"] for c in data["cases"]} == {"pass"}, p.stdout
+
+
+# -- what was on the wire when a stimulus went out (false alarm 2) ---------------------------
+
+INTERRUPTING = ("SUITE.SEND.OTHER-DURING-DATA", "3964R.D15.OTHER-DURING-DATA", "SUITE.SEND.NAK-DURING-DATA",
+                "3964R.D14.NAK-DURING-DATA")
+
+
+@pytest.mark.realtime
+def test_a_stimulus_that_finds_the_block_ended_is_judged_by_the_rule_for_that_state(tmp_path):
+    """tests/fakes/whole_block.py writes its whole block, BCC included, in one write: the
+    tester's "interrupting" character reaches it while it waits for the release DLE, where
+    a new STX at once is right (§2.2.2 release). The case is not failed for that."""
+    p, data = run(tmp_path, f"exec:{PY} {FAKES / 'whole_block.py'}", without_setups(tmp_path), *INTERRUPTING)
+    v = {c["id"]: c for c in data["cases"]}
+    assert set(v) == set(INTERRUPTING)
+    assert p.returncode == 0 and {c["verdict"] for c in v.values()} == {"pass"}, p.stdout
+    for cid in ("SUITE.SEND.OTHER-DURING-DATA", "3964R.D15.OTHER-DURING-DATA"):
+        c = v[cid]
+        assert "had ended" in c["message"] and "judged by the rule for that state" in c["message"], c["message"]
+        # it first tried again with the stimulus after the block's first byte
+        assert any("repeated with the stimulus after the block's first byte" in n for n in c["notes"])
+
+
+@pytest.mark.realtime
+def test_a_whole_block_iut_that_breaks_the_release_rule_still_fails(tmp_path):
+    iut = f"exec:{PY} {FAKES / 'whole_block.py'} --ignore-other-in-release"
+    cases = INTERRUPTING[:2]
+    p, data = run(tmp_path, iut, without_setups(tmp_path), *cases)
+    v = {c["id"]: c for c in data["cases"]}
+    assert p.returncode == 1 and {c["verdict"] for c in v.values()} == {"fail"}, p.stdout
+    assert all("judged by the rule for that state" in c["message"] for c in v.values())
