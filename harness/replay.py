@@ -25,6 +25,7 @@ This module only computes; the runner decides what agreement means for the verdi
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -94,14 +95,27 @@ class Replay:
 
 
 def replay(transport, wire: Wire, margin: Margin, *, late: bool, startup_on_line: bool,
-           longest: float, char: float) -> Replay:
+           longest: float, char: float, stall: float = 0.0) -> Replay:
     """Feed ``wire``'s tester events to the model IUT behind ``transport`` (a ``sim:``
     transport for the case, not yet opened) on the observed or the ``late`` timeline, and
     compare what it sends with what the IUT sent. ``startup_on_line``: the IUT was started
     for the case, so its start-up bytes are in ``wire``; else the model's are left out.
     ``longest``: the IUT's longest timer (how long the model may take to send a byte);
-    ``char``: its character time."""
+    ``char``: its character time.
+
+    ``stall`` > 0 (the **stalled** timeline): the machine stalled processes for up to
+    ``stall`` seconds in this attempt (the harness measured its own), so the IUT process
+    may have taken a tester event up to ``stall`` after it went out, or, having written its
+    bytes late and in a burst, with fewer of its own bytes out than the harness had read
+    before. Each tester event then reaches the model at the moment, between the model's
+    completing the bytes the harness had read before it and ``stall`` after the observed
+    time, at which the model (without the event) has sent the most of the bytes the IUT
+    sent before the next tester event, the last of them still on the line; and the IUT's
+    delays may stray ``stall`` further from the model's."""
     name = "late" if late else "observed"
+    if stall > 0:
+        name = "stalled"
+        margin = Margin(early=lambda d, m=margin: m.early(d) + stall, late=lambda d, m=margin: m.late(d) + stall)
     tr = transport
     tr.open()
     out: list[tuple[float, int]] = []     # the model's bytes: (completion time, byte)
@@ -146,7 +160,35 @@ def replay(transport, wire: Wire, margin: Margin, *, late: bool, startup_on_line
                           iut[i].r, bytes(b for _, b in out), codes, name)
         return None
 
-    for e in wire.tester:
+    def flexible(target: float, upto: int) -> float:
+        """When the event reaches the model on the stalled timeline (see above): a copy of
+        the model runs on without it to see what it sends; ``upto``: the IUT bytes read
+        before the next tester event."""
+        probe = copy.deepcopy(tr)
+        horizon = target + stall
+        ahead: list[tuple[float, int]] = []
+        while True:
+            items = probe.read(horizon + char)
+            ahead.extend(items)
+            if not items and probe.now() >= horizon + char - 1e-12:
+                break
+        m0 = len(out)
+        best = None
+        for i, (done, b) in enumerate(ahead):
+            m = m0 + i + 1
+            if m > upto or m > len(iut) or iut[m - 1].b != b:
+                break
+            at = done - char / 2      # byte m still on the line
+            if at > horizon:
+                break
+            best = at
+        if best is not None:
+            return max(best, tr.now())
+        if ahead:                     # before the model's next byte starts
+            return max(tr.now(), min(target, ahead[0][0] - char - 1e-6))
+        return target
+
+    for idx, e in enumerate(wire.tester):
         k = e.seen
         if k > len(out):   # the model paces its bytes: give it their line time too
             run_until_count(k, tr.now() + max(0.0, iut[k - 1].r - prev_real) + patience + (k - len(out)) * char)
@@ -159,6 +201,9 @@ def replay(transport, wire: Wire, margin: Margin, *, late: bool, startup_on_line
         else:
             base_real, base_model = prev_real, prev_model
         target = max(base_model + (e.t - base_real), tr.now())
+        if stall > 0:
+            upto = wire.tester[idx + 1].seen if idx + 1 < len(wire.tester) else len(iut)
+            target = flexible(target, upto)
         run_until(target)
         if e.kind == "byte":
             tr.write(bytes([e.value]))

@@ -145,6 +145,8 @@ class CaseRun:
         self.look = max(0.001, min(0.005, self.shortest / 10))
         self.last_look = self.t0
         self.lower_bound: dict[int, float] = {}
+        #: the longest the harness found itself stalled (woke up or sent late), seconds
+        self.max_stall = 0.0
         #: per stimulus (a send, character error or BREAK step): (step, IUT bytes read
         #: before its first byte went out)
         self.stimuli: list[tuple[int, int]] = []
@@ -165,8 +167,11 @@ class CaseRun:
     def _pump(self, deadline: float) -> None:
         if self.realtime:
             looked = self.last_look
-            items = self.tr.read(min(deadline, looked + self.look) if deadline > looked else deadline)
+            until = min(deadline, looked + self.look) if deadline > looked else deadline
+            items = self.tr.read(until)
             self.last_look = items[-1][0] if items else self.tr.now()
+            if not items:   # woke up late: the machine stalled this process
+                self.max_stall = max(self.max_stall, self.last_look - until)
         else:
             items = self.tr.read(deadline)
         limit = self.opts.flood_limit
@@ -268,6 +273,7 @@ class CaseRun:
             t = writer(b)
             self._record({"t": self.rel(t), "dir": "tester", "kind": kind, "byte": b, "step": self.step_index})
             late = t - target
+            self.max_stall = max(self.max_stall, late)
             if late > self.tol.stimulus and t - prev > critical:
                 raise TimingFault(f"step {self.step_index + 1}: the tester's byte {k + 1} went out "
                                   f"{late * 1000:.1f} ms late (allowed {self.tol.stimulus * 1000:.1f} ms)")
@@ -849,9 +855,9 @@ class Runner:
         factory = sim_factory(proc, {"app": app})
         startup = RESTART in tr.capabilities
 
-        def model(late: bool):
+        def model(late: bool, stall: float = 0.0):
             return RP.replay(factory(v, params), wire, margin, late=late, startup_on_line=startup,
-                             longest=run.longest, char=run.char)
+                             longest=run.longest, char=run.char, stall=stall)
 
         try:
             if run.displaced is not None:
@@ -870,11 +876,18 @@ class Runner:
                                                       "same line", rep.why)
                 return "ok"
             differences = []
-            for late in (False, True):
-                rep = model(late)
+            # the machine stalled the harness noticeably: the IUT process may have been
+            # stalled as long (a third timeline); a stall under a character time is noise
+            stall = run.max_stall + run.look if run.max_stall > run.char else 0.0
+            timelines = [(False, 0.0), (True, 0.0)] + ([(False, stall)] if stall else [])
+            for late, stalled in timelines:
+                rep = model(late, stalled)
                 differences.append(f"{rep.timeline} timeline: {rep.why}")
                 if rep.agrees:
-                    how = ("as late after the IUT's bytes as they may have reached it (the harness read an IUT byte "
+                    how = (f"as late as a process stalled for up to {1000 * stalled:.1f} ms (the longest stall the "
+                           "harness measured in this attempt, plus its look period) may have taken them, with as "
+                           "many of its own bytes out as a stalled IUT may have had" if stalled else
+                           "as late after the IUT's bytes as they may have reached it (the harness read an IUT byte "
                            "late and timed its reply from that read)" if late else
                            "when they really went out (the IUT had acted before the tester's reply reached it)")
                     res.notes.append(f"failed attempt: {res.message}")

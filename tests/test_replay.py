@@ -22,9 +22,9 @@ CASE = Vector(id="T", title="t", reference="r", rule="r", group="receive", iut_r
               steps=(), binds=())
 
 
-def model(wire, late, case=CASE):
+def model(wire, late, case=CASE, stall=0.0):
     return RP.replay(sim_factory(PROC, {"app": "echo"})(case, P), wire, MARGIN, late=late, startup_on_line=True,
-                     longest=max(P.cdt, P.adt), char=CHAR)
+                     longest=max(P.cdt, P.adt), char=CHAR, stall=stall)
 
 
 def iut(r, b, lb=None):
@@ -49,9 +49,9 @@ def test_every_suite_case_run_in_virtual_time_is_reproduced_by_the_model():
             continue
         run = r.last_run
         wire = RP.Wire.from_log(run.log, {}, run.rel(run.tr.now()))
-        for late in (False, True):
-            rep = model(wire, late, case)
-            assert rep.agrees, (case.id, res.verdict, late, rep.why)
+        for late, stall in ((False, 0.0), (True, 0.0), (False, 0.005)):
+            rep = model(wire, late, case, stall)
+            assert rep.agrees, (case.id, res.verdict, late, stall, rep.why)
 
 
 def test_a_reply_timed_from_a_late_read_explains_the_iuts_timeout():
@@ -127,3 +127,47 @@ def test_a_whole_block_judged_by_the_state_the_iut_was_in(what, agrees):
     w.end = w.iut[-1].r + 0.002
     rep = model(w, late=False)
     assert rep.agrees == agrees, rep.why
+
+
+def echo_interrupted(sent_after: int, reply: bool):
+    """The IUT echoes a 40-byte block; the tester's 42 goes out 1.05 characters after the
+    harness read the IUT's 10th data byte; the IUT then sends ``sent_after`` more bytes and,
+    if ``reply``, its NAK a CDT after the 42 (Fig. 2-10: another character during the data
+    ends the attempt)."""
+    body = codec.body(b"A" * 40, "3964R")
+    w = RP.Wire(iut=[iut(0.001, NAK, 0.0)])
+    w.tester = [RP.TesterEvent(0.010, "byte", STX, seen=1)]
+    w.iut.append(iut(0.0125, DLE, 0.0115))
+    w.tester += block_events(0.014, body, seen=2)
+    t = 0.014 + len(body) * CHAR
+    w.iut += [iut(t + 0.001, DLE), iut(t + 0.002, STX)]
+    w.tester.append(RP.TesterEvent(t + 0.004, "byte", DLE, seen=4))
+    t += 0.004
+    w.iut += [iut(t + (i + 1) * CHAR, b, t + i * CHAR) for i, b in enumerate(body[:10])]
+    at = t + 10 * CHAR + 1.05 * CHAR
+    w.tester.append(RP.TesterEvent(at, "byte", 0x42, seen=len(w.iut)))
+    # the stalled IUT writes what it still sends 10 ms later, in a burst
+    w.iut += [iut(at + 0.010, b, at) for b in body[10:10 + sent_after]]
+    if reply:
+        w.iut.append(iut(at + P.cdt + 0.002, NAK, at + P.cdt))
+    w.end = w.iut[-1].r + 0.050
+    return w
+
+
+def test_a_stalled_iut_stops_its_block_with_fewer_bytes_out_than_the_observed_timeline_says():
+    # Seen under load (SUITE.SEND.QUIET-RESTARTS against the reference, load ~20 on 2 cores):
+    # on the observed timeline the model has a second byte on the line when the 42 reaches
+    # it and sends it; the IUT, stalled, had only one more. With the stall the harness
+    # measured, the model takes the 42 while that one byte is on the line, and agrees.
+    w = echo_interrupted(sent_after=1, reply=True)
+    for late in (False, True):
+        rep = model(w, late)
+        assert not rep.agrees and "the model sends 41" in rep.why, rep.why
+    rep = model(w, False, stall=0.015)
+    assert rep.agrees and rep.timeline == "stalled", rep.why
+
+
+def test_a_stall_does_not_explain_an_iut_that_ignores_the_interruption():
+    w = echo_interrupted(sent_after=33, reply=False)   # the rest of its block, no NAK
+    for late, stall in ((False, 0.0), (True, 0.0), (False, 0.015)):
+        assert not model(w, late, stall=stall).agrees
