@@ -97,6 +97,9 @@ class RunOptions:
     #: a failed real-time attempt is re-judged by the model fed the line as it was (see
     #: ptpcert.replay): a failure the harness's own timing explains is void, not the IUT's
     rejudge: bool = True
+    #: a failed case whose tagged open points (``readings``) have another reading that
+    #: explains the divergence is graded by that reading's grade (Procedure.reading_grade)
+    grade_readings: bool = True
 
 
 # ------------------------------------------------------------------ the case driver
@@ -704,6 +707,8 @@ class Runner:
                 self._pause(voided + reruns, realtime)
                 continue
             break
+        if res.verdict == R.FAIL and v.readings and self.opts.grade_readings:
+            self._grade_by_readings(v, res)
         if res.verdict in (R.PASS, R.NON_STRICT, R.INFORMATIONAL) and reruns:
             res.message = "; ".join(x for x in (res.message, f"passed on attempt {attempts} after {reruns} failed "
                                                               f"attempt(s) (see notes)") if x)
@@ -716,6 +721,38 @@ class Runner:
             elif res.verdict in (R.PASS, R.NON_STRICT, R.INFORMATIONAL):
                 res.verdict, res.message = R.XPASS, f"listed as an expected failure ({xf}) but passed"
         return res
+
+    def _grade_by_readings(self, v: Vector, res: R.CaseResult) -> None:
+        """A failed case tagged with open points of the manual: when the model with the
+        other reading of one of them (through the one ``sim:`` builder, in virtual time)
+        diverges from the case as the IUT did (the same step and the same bytes, or the
+        same complaint about what the IUT reported), the IUT takes that reading, and the
+        case gets the grade the procedure gives it."""
+        from .transport import sim_factory
+        proc = v.proc
+        app = "echo" if (self.profile is None or self.profile.echo) else "none"
+        if app not in proc.apps():
+            app = proc.apps()[0]
+        opts = replace(self.opts, grade_readings=False, rejudge=False)
+        for name in v.readings:
+            grade = proc.reading_grade(name)
+            other = proc.other_reading(name) if grade is not None else None
+            if other is None:
+                continue
+            alt = Runner(sim_factory(proc, {"app": app}, readings=other), self.profile, opts).run_case(v)
+            d, mine = alt.divergence, res.divergence
+            if mine is None:   # a divergence in what the IUT reported, not on the wire
+                same = d is None and alt.verdict == R.FAIL and alt.message == res.message
+            else:
+                same = d is not None and d.step == mine.step and d.observed == mine.observed
+            if not same:
+                continue
+            res.notes.append(f"failed: {res.message}")
+            res.verdict = grade
+            res.message = (f"the IUT takes the other reading of open point {name} (docs/readings.md), which "
+                           f"the procedure grades {grade}: the model with that reading does the same "
+                           f"({res.message})")
+            return
 
     def _rerun_budget(self, v: Vector, outcome: str, realtime: bool) -> int:
         """How many times a failed case runs again before its failure stands. A failure is

@@ -182,3 +182,57 @@ def test_no_interrupting_case_fails_a_correct_iut_over_a_pipe(tmp_path, who):
     assert set(verdicts) == set(EVERY_INTERRUPTING)
     assert "fail" not in verdicts.values(), p.stdout
     assert sum(v == "pass" for v in verdicts.values()) >= len(verdicts) // 2, p.stdout
+
+
+# -- readings decide grading (issue 16) -------------------------------------------------------
+
+D18 = "3964R.D18.MISMATCH-3964R-TO-3964"
+
+
+def run_d18(options, **run_options):
+    from ptpcert.runner import RunOptions, Runner
+    from ptpcert.scenario import load_vector_sets
+    from ptpcert.suite import load_suite
+    from ptpcert.transport import sim_factory
+
+    prof = reference_profile()
+    (case,) = load_suite(prof, load_vector_sets(), select=[D18])
+    assert "A10" in case.readings
+    factory = sim_factory(prof.procedure, options, readings=options.pop("readings", None))
+    return Runner(factory, prof, RunOptions(**run_options)).run_case(case)
+
+
+def other_a10():
+    return reference_profile().procedure.other_reading("A10")
+
+
+def test_the_other_reading_of_a_tagged_open_point_is_graded_by_the_procedures_data():
+    # A 3964R sender facing a 3964 receiver (D18): a DLE in its end sequence is "too early"
+    # (16#0706) in the model's reading of A10, "other character" (16#0704) in the other.
+    # An IUT taking the other reading fails the case as written; the procedure grades A10 pass.
+    proc = reference_profile().procedure
+    assert proc.reading_grade("A10") == "pass" and other_a10() is not None
+    strict = run_d18({"app": "echo", "readings": other_a10()}, grade_readings=False)
+    assert strict.verdict == "fail" and "16#0704" in strict.message
+    res = run_d18({"app": "echo", "readings": other_a10()})
+    assert res.verdict == "pass", res.message
+    assert "other reading of open point A10" in res.message and any("16#0704" in n for n in res.notes)
+
+
+@pytest.mark.parametrize("grade", ["non-strict", "informational"])
+def test_the_grade_comes_from_the_reading_not_from_the_case(monkeypatch, grade):
+    proc = type(reference_profile().procedure)
+    monkeypatch.setattr(proc, "reading_grades", {**proc.reading_grades, "A10": grade})
+    assert run_d18({"app": "echo", "readings": other_a10()}).verdict == grade
+
+
+def test_a_reading_the_procedure_does_not_grade_down_fails(monkeypatch):
+    proc = type(reference_profile().procedure)
+    monkeypatch.setattr(proc, "reading_grades", {k: v for k, v in proc.reading_grades.items() if k != "A10"})
+    assert run_d18({"app": "echo", "readings": other_a10()}).verdict == "fail"
+
+
+@pytest.mark.parametrize("mutant", ["no-dle-doubling", "nak-in-idle-answered", "dle-pair-rescanned"])
+def test_a_defect_the_other_reading_does_not_explain_still_fails(mutant):
+    res = run_d18({"app": "echo", "mutant": mutant})
+    assert res.verdict == "fail" and "other reading" not in res.message
