@@ -882,7 +882,7 @@ class Runner:
             if may_interrupt_earlier and earlier_interrupt(steps, stim) is not None:
                 res.message = f"{why}; the attempt is repeated with the stimulus after the block's first byte"
                 return f"displaced:{stim}"
-        elif res.divergence is None:
+        elif res.divergence is None and not res.message.startswith("STATUS: "):
             return outcome
         tol = run.tol
         margin = RP.Margin(early=lambda d: tol.early + tol.early_rel * max(d, 0.0),
@@ -919,8 +919,9 @@ class Runner:
             timelines = [(False, 0.0), (True, 0.0)] + ([(False, stall)] if stall else [])
             for late, stalled in timelines:
                 rep = model(late, stalled)
-                differences.append(f"{rep.timeline} timeline: {rep.why}")
-                if rep.agrees:
+                problems = self._status_by_model(v, run, rep.codes) if rep.agrees and res.divergence is None else []
+                differences.append(f"{rep.timeline} timeline: " + (rep.why or "STATUS: " + "; ".join(problems)))
+                if rep.agrees and not problems:
                     how = (f"as late as a process stalled for up to {1000 * stalled:.1f} ms (the longest stall the "
                            "harness measured in this attempt, plus its look period) may have taken them, with as "
                            "many of its own bytes out as a stalled IUT may have had" if stalled else
@@ -936,6 +937,16 @@ class Runner:
                              "late the tester's bytes reached it (" + "; ".join(differences) + ")")
         except Exception as exc:   # the re-judgement must never cost the verdict
             res.notes.append(f"re-judging by the model failed: {type(exc).__name__}: {exc}")
+        if run.max_stall > tol.stimulus:
+            # The machine stalled the harness beyond the tolerance of its own timing in
+            # this attempt, and so, as likely, the IUT process: what the IUT saw on the
+            # line cannot be known well enough to blame it.
+            res.notes.append(f"failed attempt: {res.message}")
+            res.verdict = R.ERROR
+            res.message = (f"harness timing fault: the harness was stalled for up to {1000 * run.max_stall:.1f} ms "
+                           f"in this attempt (its own timing is kept to {1000 * tol.stimulus:.1f} ms); the IUT's "
+                           "divergence cannot be told from the machine's load")
+            return "timing"
         return outcome
 
     def _status_by_model(self, v: Vector, run: CaseRun, model_codes: list[int]) -> list[str]:
