@@ -173,8 +173,8 @@ class CaseRun:
             until = min(deadline, looked + self.look) if deadline > looked else deadline
             items = self.tr.read(until)
             self.last_look = items[-1][0] if items else self.tr.now()
-            if not items:   # woke up late: the machine stalled this process
-                self.max_stall = max(self.max_stall, self.last_look - until)
+            # a read returns by its deadline: later, the machine stalled this process
+            self.max_stall = max(self.max_stall, self.tr.now() - until)
         else:
             items = self.tr.read(deadline)
         limit = self.opts.flood_limit
