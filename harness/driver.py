@@ -63,19 +63,26 @@ def drive_station(host, ep: Endpoint, *, stop: Callable[[], bool] | None = None,
             r = recheck()
             if r > now:  # a recheck time already past would only spin
                 wake = min(wake, r)
-        for t, kind, value in ep.poll(wake):
+        for t, kind, value in _runs(ep.poll(wake)):
+            # Input found on the first look after one of the station's deadlines has passed
+            # was waiting while the process was descheduled (or came with the deadline): it
+            # is taken as arriving at that deadline, so it goes before the timer (inputs of
+            # an instant before its deadlines). A timer that expired while the process was
+            # not running must not win over input that was already there.
+            if d is not None and t > d:
+                t = d
             t = max(t, st.now)
             # input read in a batch is taken as it came: the deadlines before each input
             # first, and the application runs in between (it must not find a buffer full
             # that it would have emptied, or a frame not yet ended that had ended)
             prev = None
             while True:
-                d = st.next_deadline()
+                nd = st.next_deadline()
                 # (a deadline that stays is a character to send: the loop above writes it)
-                if d is None or d >= t or d == prev:
+                if nd is None or nd >= t or nd == prev:
                     break
-                prev = d
-                st.handle_timer(max(d, st.now))
+                prev = nd
+                st.handle_timer(max(nd, st.now))
                 _drain(host, on_event)
             st.line_event(t, kind, value)
             _drain(host, on_event)
@@ -89,3 +96,29 @@ def _drain(host, on_event) -> None:
     for e in host.drain():
         if on_event is not None:
             on_event(e)
+
+
+def _runs(items: list[tuple[float, str, int]]) -> list[tuple[float, str, object]]:
+    """Consecutive bytes that arrived at one instant as one ``"bytes"`` event (a station
+    takes a run of data in one step; a 1024-byte block read at once costs one call, not
+    1024), every other item as it is."""
+    out: list[tuple[float, str, object]] = []
+    run = bytearray()
+    at = 0.0
+    for t, kind, value in items:
+        if kind == "byte" and (not run or t == at):
+            if not run:
+                at = t
+            run.append(value)
+            continue
+        if run:
+            out.append((at, "bytes" if len(run) > 1 else "byte", bytes(run) if len(run) > 1 else run[0]))
+            run = bytearray()
+        if kind == "byte":
+            at = t
+            run.append(value)
+        else:
+            out.append((t, kind, value))
+    if run:
+        out.append((at, "bytes" if len(run) > 1 else "byte", bytes(run) if len(run) > 1 else run[0]))
+    return out

@@ -725,6 +725,9 @@ def _profile_rows(p: dict[str, Any]) -> list[tuple[str, str]]:
     rows.append(("send trigger", str(st)))
     rows.append(("line conditions", str(lc)))
     rows.append(("STATUS from stderr", str(sfs).lower() if isinstance(sfs, bool) else str(sfs)))
+    (tt,) = take("timer_tolerance_ms")
+    rows.append(("IUT timer tolerance", f"{tt or 0:g} ms " + ("(declared: widens the late side of windows that "
+                                                             "end on an IUT timer)" if tt else "(none declared)")))
     xf = p.get("expected_failures") or {}
     seen.add("expected_failures")
     if xf:

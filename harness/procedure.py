@@ -60,6 +60,15 @@ class Procedure:
     time_names: tuple[str, ...] = ()
     #: the open points of the manual this procedure's model has readings for (e.g. A11)
     readings: tuple[str, ...] = ()
+    #: how a case grades an IUT that takes the other reading of one of its tagged open
+    #: points (a vector's ``readings``): open point -> "pass" (as good), "non-strict"
+    #: (allowed, not as the manual prefers) or "informational" (reported, never a failure);
+    #: an open point not listed is not graded down (a divergence fails)
+    reading_grades: Mapping[str, str] = {}
+    #: which of :attr:`time_names` are the IUT's own timers (None: all of them). A window
+    #: whose lower bound names one waits for what that timer causes; the profile's
+    #: ``timer_tolerance_ms`` widens its late side
+    iut_timers: tuple[str, ...] | None = None
     #: the capabilities a vector may ``require`` (besides those every procedure knows)
     requirements: tuple[str, ...] = ()
     #: names of the ``[iut.setups]`` entries its cases may use
@@ -271,6 +280,23 @@ class Procedure:
     def fuzz_kit(self) -> Any:
         """The fuzz strategies and oracle (:class:`ptpcert.fuzz.FuzzKit`), or None."""
         return None
+
+    # -- the readings of the manual's open points -------------------------------------------
+    def reading_grade(self, name: str) -> str | None:
+        """The grade of a case's divergence that the other reading of open point ``name``
+        explains (see :attr:`reading_grades`); None: not graded down."""
+        return self.reading_grades.get(name)
+
+    def other_reading(self, name: str) -> Any | None:
+        """The model's readings (the object :meth:`station` takes) with the other reading of
+        open point ``name``; None when the model has no other reading of it. By default the
+        fuzz kit's alternatives (the same change the fuzzer tries on a divergence)."""
+        kit = self.fuzz_kit()
+        change = dict(kit.alternatives).get(name) if kit is not None else None
+        if change is None:
+            return None
+        from dataclasses import replace
+        return replace(kit.readings, **change)
 
     def __repr__(self) -> str:
         return f"<procedure {self.id}>"

@@ -18,6 +18,7 @@ stop_bits = 1                    # default 1
 send_trigger = "echo"            # "echo": sends back every block it receives; "none"
 line_conditions = "parmrk"       # "parmrk": reads PARMRK marks on exec:/pty:; "none"
 status_from_stderr = true        # prints "STATUS 16#XXXX" lines on stderr
+timer_tolerance_ms = 0           # optional: how late the IUT's own timers may act (declared)
 
 [iut.setups]                     # optional: words appended to an exec:/pty: command for the
 no_buffer = "--buffer full"      # cases that need the IUT in a special state
@@ -39,6 +40,10 @@ from .procedure import Procedure, ProcedureError
 #: [iut] keys every procedure has
 COMMON_REQUIRED = ("procedure", "send_trigger", "line_conditions", "status_from_stderr")
 COMMON_CHOICES = {"send_trigger": ("echo", "none"), "line_conditions": ("parmrk", "none")}
+#: [iut] keys every procedure may have
+COMMON_OPTIONAL = ("timer_tolerance_ms", "setups")
+#: the largest timer tolerance a profile may declare (ms)
+MAX_TIMER_TOLERANCE_MS = 60_000
 
 
 class ProfileError(ValueError):
@@ -58,6 +63,10 @@ class Profile:
     #: name -> words appended to the exec:/pty: command for the cases that need that setup
     setups: dict[str, str] = field(default_factory=dict)
     path: str = ""
+    #: the accuracy the vendor declares for the IUT's own timers (ms): how much later than
+    #: due an output that a timer of the IUT causes may come. It widens only the late side
+    #: of windows that end on an IUT timer, on top of the harness's own tolerance.
+    timer_tolerance_ms: float = 0.0
 
     @property
     def echo(self) -> bool:
@@ -72,6 +81,7 @@ class Profile:
             **self.procedure.profile_dict(self.params),
             "send_trigger": self.send_trigger, "line_conditions": self.line_conditions,
             "status_from_stderr": self.status_from_stderr,
+            "timer_tolerance_ms": self.timer_tolerance_ms,
             "setups": dict(self.setups), "expected_failures": dict(self.expected_failures),
         }
 
@@ -137,7 +147,7 @@ def profile_from_dict(raw: dict[str, Any], where: str = "<profile>") -> Profile:
     if foreign:
         raise ProfileError(where, foreign[0], f"not a table of a {proc.title} profile (allowed: "
                            + ", ".join(f"[{t}]" for t in sorted(allowed_tables)) + ")")
-    allowed = set(COMMON_REQUIRED) | set(proc.profile_keys()) | {"setups"}
+    allowed = set(COMMON_REQUIRED) | set(proc.profile_keys()) | set(COMMON_OPTIONAL)
     for key in iut:
         if key not in allowed:
             raise ProfileError(where, f"iut.{key}", "unknown key (allowed: " + ", ".join(sorted(allowed)) + ")")
@@ -152,7 +162,13 @@ def profile_from_dict(raw: dict[str, Any], where: str = "<profile>") -> Profile:
                                + ", ".join(f'"{c}"' for c in options))
     if not isinstance(iut["status_from_stderr"], bool):
         raise ProfileError(where, "iut.status_from_stderr", f"{iut['status_from_stderr']!r}: must be true or false")
-    own = {k: v for k, v in iut.items() if k not in ("send_trigger", "line_conditions", "status_from_stderr", "setups")}
+    timer_tol = iut.get("timer_tolerance_ms", 0)
+    if isinstance(timer_tol, bool) or not isinstance(timer_tol, (int, float)) \
+            or not 0 <= timer_tol <= MAX_TIMER_TOLERANCE_MS:
+        raise ProfileError(where, "iut.timer_tolerance_ms", f"{timer_tol!r}: must be a number of milliseconds "
+                           f"from 0 to {MAX_TIMER_TOLERANCE_MS}")
+    own = {k: v for k, v in iut.items()
+           if k not in ("send_trigger", "line_conditions", "status_from_stderr") + COMMON_OPTIONAL}
     tables = {t: raw[t] for t in proc.tables if t in raw}
     for t, v in tables.items():
         if not isinstance(v, dict):
@@ -174,7 +190,7 @@ def profile_from_dict(raw: dict[str, Any], where: str = "<profile>") -> Profile:
     if not isinstance(xf, dict) or any(not isinstance(v, str) or not v.strip() for v in xf.values()):
         raise ProfileError(where, "expected_failures", "a table of case id = \"reason\" (each with a reason)")
     return Profile(proc, params, iut["send_trigger"], iut["line_conditions"], iut["status_from_stderr"],
-                   dict(xf), dict(setups), where)
+                   dict(xf), dict(setups), where, float(timer_tol))
 
 
 def reference_profile(**overrides: Any) -> Profile:

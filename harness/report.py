@@ -113,9 +113,17 @@ def progress_line(i: int, n: int, c: R.CaseResult) -> str:
     return f"[{i:>{w}}/{n}] {c.verdict:<13} {c.id}  ({c.duration:.2f} s){extra}"
 
 
+def timer_tolerance_text(run: R.RunResult) -> str:
+    """The declared accuracy of the IUT's own timers, as every report shows it."""
+    ms = run.profile.get("timer_tolerance_ms") or 0
+    how = "declared in the profile" if ms else "none declared"
+    return (f"IUT timer tolerance: {ms:g} ms ({how}, [iut] timer_tolerance_ms; widens only the late side of "
+            "windows that end on an IUT timer, beyond the harness's own tolerance)")
+
+
 def summary(run: R.RunResult) -> str:
     counts = run.counts()
-    lines = ["", "verdict        cases"]
+    lines = ["", timer_tolerance_text(run), "", "verdict        cases"]
     for v in R.VERDICTS:
         if counts.get(v):
             lines.append(f"  {v:<13}{counts[v]:>6}")

@@ -18,7 +18,7 @@ from . import results as R
 from .model import codec
 from .model.events import Delivered, status_text
 from .profile import Profile
-from .scenario import Expr, Step, Vector, brief_hex, expand, timer_env
+from .scenario import Expr, Step, Vector, brief_hex, expand, names_in, timer_env
 from .driver import Endpoint, drive_station
 from .transport.base import (BREAK, CHAR_ERROR, NETWORK, RESTART, SETUPS, STATUS, IUTDied, Transport,
                              TransportError)
@@ -36,6 +36,10 @@ class Tolerance:
     late_abs: float     # ... and this much after it closes,
     late_rel: float     # ... plus this fraction of the window's nominal upper bound
     stimulus: float     # the tester's bytes may go out this late
+    #: how late an output that one of the IUT's own timers causes may come beyond the
+    #: above (the profile's declared ``timer_tolerance_ms``): widens only the late side of
+    #: a window whose lower bound is an IUT timer
+    iut_timer: float = 0.0
 
     def late(self, nominal: float) -> float:
         return self.late_abs + self.late_rel * max(nominal, 0.0)
@@ -90,6 +94,12 @@ class RunOptions:
     check_status: bool = True         # compare reported STATUS events (profile status_from_stderr)
     check_model_events: bool = False  # sim: also check deliveries and completed jobs
     virtual: bool = False
+    #: a failed real-time attempt is re-judged by the model fed the line as it was (see
+    #: ptpcert.replay): a failure the harness's own timing explains is void, not the IUT's
+    rejudge: bool = True
+    #: a failed case whose tagged open points (``readings``) have another reading that
+    #: explains the divergence is graded by that reading's grade (Procedure.reading_grade)
+    grade_readings: bool = True
 
 
 # ------------------------------------------------------------------ the case driver
@@ -132,6 +142,26 @@ class CaseRun:
         self.skippable = frozenset(proc.interleaved(params))
         #: (data, bytes received) of the last partial expect step, for a step that resumes it
         self.last_partial: tuple[bytes, int] | None = None
+        names = proc.iut_timers if proc.iut_timers is not None else proc.time_names
+        self.iut_timers = frozenset(names)
+        # What was on the line when, as exactly as the harness can know it (real time only):
+        # the harness looks at the line at least every ``look`` seconds while it waits, so an
+        # IUT byte it reads left the IUT after the look before (its lower bound, by log
+        # index); a descheduled harness misses looks, and the bound shows it.
+        self.realtime = not tr.virtual
+        self.look = max(0.001, min(0.005, self.shortest / 10))
+        self.last_look = self.t0
+        self.lower_bound: dict[int, float] = {}
+        #: the longest the harness found itself stalled (woke up or sent late), seconds
+        self.max_stall = 0.0
+        #: per stimulus (a send, character error or BREAK step): (step, IUT bytes read
+        #: before its first byte went out)
+        self.stimuli: list[tuple[int, int]] = []
+        #: (stimulus step, partial step) when an IUT block that a stimulus was meant to
+        #: interrupt had ended before the stimulus went out
+        self.displaced: tuple[int, int] | None = None
+        #: the STATUS events the IUT reported (None: not collected)
+        self.status_codes: list[int] | None = None
         self.skipping = 0
 
     # -- helpers -----------------------------------------------------------------------
@@ -142,11 +172,21 @@ class CaseRun:
         return e.eval(self.env)
 
     def _pump(self, deadline: float) -> None:
-        items = self.tr.read(deadline)
+        if self.realtime:
+            looked = self.last_look
+            until = min(deadline, looked + self.look) if deadline > looked else deadline
+            items = self.tr.read(until)
+            self.last_look = items[-1][0] if items else self.tr.now()
+            # a read returns by its deadline: later, the machine stalled this process
+            self.max_stall = max(self.max_stall, self.tr.now() - until)
+        else:
+            items = self.tr.read(deadline)
         limit = self.opts.flood_limit
         room = max(0, limit - len(self.rx))
         for t, b in items[:room]:
             self.rx.append((t, b))
+            if self.realtime:
+                self.lower_bound[len(self.log)] = self.rel(looked)
             self.rx_log.append(len(self.log))
             self._record({"t": self.rel(t), "dir": "iut", "kind": "byte", "byte": b, "step": self.step_index})
         if len(items) > room:
@@ -178,6 +218,9 @@ class CaseRun:
         return out
 
     def wait_until(self, t: float) -> None:
+        now = self.tr.now()
+        if self.realtime and now - self.last_look > self.look and now >= t:
+            self._pump(now)   # behind time (sending a long block): still look at the line
         while self.tr.now() < t:
             self._pump(t)
 
@@ -242,15 +285,25 @@ class CaseRun:
         for k, b in enumerate(data):
             target = start + k * (char + gap) + char
             self.wait_until(target)
+            if k == 0:
+                self._stimulus()
             t = writer(b)
             self._record({"t": self.rel(t), "dir": "tester", "kind": kind, "byte": b, "step": self.step_index})
             late = t - target
+            self.max_stall = max(self.max_stall, late)
             if late > self.tol.stimulus and t - prev > critical:
                 raise TimingFault(f"step {self.step_index + 1}: the tester's byte {k + 1} went out "
                                   f"{late * 1000:.1f} ms late (allowed {self.tol.stimulus * 1000:.1f} ms)")
             prev = t
         self.ref = self.sent_end = t
         self.forced += at + len(data) * char + max(0, len(data) - 1) * gap
+
+    def _stimulus(self) -> None:
+        """A stimulus is about to go out: take in what the IUT has sent by now (the state
+        it is in when the stimulus reaches it) and note it."""
+        if self.realtime:
+            self._pump(self.tr.now())
+        self.stimuli.append((self.step_index, len(self.rx)))
 
     def _send(self, step: Step) -> None:
         self._send_bytes(step, step.data, lambda b: self.tr.write(bytes([b])), "byte")
@@ -262,6 +315,7 @@ class CaseRun:
         at, dur = self.ev(step.at), self.ev(step.duration)
         target = self.ref + at
         self.wait_until(target)
+        self._stimulus()
         t = self.tr.send_break(dur)
         if t - target > self.tol.stimulus and t - self.ref > 0.9 * self.shortest:
             raise TimingFault(f"step {self.step_index + 1}: BREAK went out {1000 * (t - target):.1f} ms late")
@@ -302,6 +356,8 @@ class CaseRun:
         lo_nom, hi_nom = self.ev(step.after), self.ev(step.within)
         lo = self.ref + lo_nom - self.tol.early - self.tol.early_rel * max(lo_nom, 0.0)
         hi = self.ref + hi_nom + self.tol.late(hi_nom)
+        if self.tol.iut_timer and self._ends_on_iut_timer(step):
+            hi += self.tol.iut_timer
         what = brief_hex(step.data)
         if step.alternatives:
             what += " (or " + " or ".join(brief_hex(a) for a in step.alternatives) + ")"
@@ -337,7 +393,10 @@ class CaseRun:
                 self.skipping = step.skip
                 return
             self.fail(what, f"received {b:02X}", t, (self.ref + lo_nom, self.ref + hi_nom))
-        if t < lo:
+        # the rest of a block the stimulus interrupts may have been on the line before the
+        # stimulus went out: those bytes are not a reaction to it, early or not
+        before = step.partial and bool(self.stimuli) and self.pos < self.stimuli[-1][1]
+        if t < lo and not before:
             self.fail(f"{what} no earlier than {step.after}",
                       f"{b:02X} came {1000 * (t - self.ref):.1f} ms after the reference, too early",
                       t, (self.ref + lo_nom, self.ref + hi_nom), late_only=True)
@@ -378,8 +437,18 @@ class CaseRun:
         if matched != step.data and not step.partial:
             if matched in step.alternatives:
                 self._grade(step.alt_grade, f"step {self.step_index + 1}: the IUT sent {codec.hexstr(matched)}")
+        if (step.partial and matched == step.data and self.stimuli and self.pos <= self.stimuli[-1][1]
+                and self.displaced is None):
+            # the whole block was on the line before the stimulus went out: the stimulus
+            # reached an IUT whose block had ended (e.g. written in one piece over a pipe)
+            self.displaced = (self.stimuli[-1][0], self.step_index)
         self.ref = last_t
         self.forced += max(lo_nom, 0.0) + len(matched) * self.char
+
+    def _ends_on_iut_timer(self, step: Step) -> bool:
+        """The window waits for what one of the IUT's own timers causes: its lower bound
+        names one (e.g. ``after = "CDT"``: a NAK due when the IUT's CDT runs out)."""
+        return bool(names_in(step.after) & self.iut_timers)
 
     def _grade(self, grade: str, why: str) -> None:
         if grade != R.PASS:
@@ -469,6 +538,16 @@ class CaseRun:
                       f"it sent {rest}", t, (self.ref, end))
         self.ref = end
 
+    def observe_rest(self) -> None:
+        """After a divergence: go on as a conforming partner until the line is quiet, so
+        that the whole exchange is on record to be judged (by the model) as it went."""
+        self.step_index = len(self.steps)
+        v = self.v
+        blocks = list(v.expected.echo_after) or list(v.expected.sent) or list(v.expected.delivered) or [b"\x00"]
+        limit = self.tr.now() + self.proc.echo_time_limit(self.p, blocks)
+        self._play_partner(self.tp, limit, want=None, label="after the divergence: the tester answers as a "
+                                                            "conforming partner, for the record")
+
     def _receive_echoes(self, echo: list[bytes]) -> None:
         limit = self.tr.now() + self.proc.echo_time_limit(self.p, echo)
         got = self._play_partner(self.tp, limit, want=len(echo),
@@ -557,6 +636,22 @@ class _CaseEndpoint(Endpoint):
         return w
 
 
+def earlier_interrupt(steps: tuple[Step, ...], stim: int) -> tuple[Step, ...] | None:
+    """The steps with the stimulus of step ``stim`` sent after the first byte of the block
+    it interrupts instead of after several: the expect step before it keeps only its first
+    byte, the partial expectation after it takes the rest. None when the steps around it
+    are not an expected block, the stimulus and the rest of that block."""
+    if stim < 1 or stim + 1 >= len(steps):
+        return None
+    before, after = steps[stim - 1], steps[stim + 1]
+    if before.kind != "expect" or before.partial or before.optional or before.alternatives or len(before.data) < 2:
+        return None
+    if after.kind != "expect" or not after.partial:
+        return None
+    return (steps[:stim - 1] + (replace(before, data=before.data[:1]), steps[stim],
+                                replace(after, data=before.data[1:] + after.data)) + steps[stim + 2:])
+
+
 @dataclass
 class RunnerState:
     """What the runner learns across cases of one run."""
@@ -575,6 +670,8 @@ class Runner:
         self.profile = profile
         self.opts = options or RunOptions()
         self.state = RunnerState()
+        #: the last attempt's case driver (its log and what it noted), for tools and tests
+        self.last_run: CaseRun | None = None
 
     # -- applicability -------------------------------------------------------------
     def effective_params(self, v: Vector) -> Any:
@@ -639,9 +736,16 @@ class Runner:
             return res
         attempts = voided = reruns = 0
         realtime = not getattr(self.factory, "virtual", False)
+        earlier_tried = False
         while True:
             attempts += 1
-            outcome = self._attempt(v, steps, params, res)
+            outcome = self._attempt(v, steps, params, res, may_interrupt_earlier=not earlier_tried)
+            if outcome.startswith("displaced:"):
+                # the stimulus found the IUT's block ended: once more, interrupting earlier
+                earlier_tried = True
+                steps = earlier_interrupt(steps, int(outcome.split(":")[1]))
+                res.notes.append(f"attempt {attempts} voided: {res.message}")
+                continue
             if outcome == "timing" and voided < self.opts.timing_retries:
                 voided += 1
                 res.notes.append(f"attempt {attempts} voided: {res.message}")
@@ -657,6 +761,8 @@ class Runner:
                 self._pause(voided + reruns, realtime)
                 continue
             break
+        if res.verdict == R.FAIL and v.readings and self.opts.grade_readings:
+            self._grade_by_readings(v, res)
         if res.verdict in (R.PASS, R.NON_STRICT, R.INFORMATIONAL) and reruns:
             res.message = "; ".join(x for x in (res.message, f"passed on attempt {attempts} after {reruns} failed "
                                                               f"attempt(s) (see notes)") if x)
@@ -669,6 +775,38 @@ class Runner:
             elif res.verdict in (R.PASS, R.NON_STRICT, R.INFORMATIONAL):
                 res.verdict, res.message = R.XPASS, f"listed as an expected failure ({xf}) but passed"
         return res
+
+    def _grade_by_readings(self, v: Vector, res: R.CaseResult) -> None:
+        """A failed case tagged with open points of the manual: when the model with the
+        other reading of one of them (through the one ``sim:`` builder, in virtual time)
+        diverges from the case as the IUT did (the same step and the same bytes, or the
+        same complaint about what the IUT reported), the IUT takes that reading, and the
+        case gets the grade the procedure gives it."""
+        from .transport import sim_factory
+        proc = v.proc
+        app = "echo" if (self.profile is None or self.profile.echo) else "none"
+        if app not in proc.apps():
+            app = proc.apps()[0]
+        opts = replace(self.opts, grade_readings=False, rejudge=False)
+        for name in v.readings:
+            grade = proc.reading_grade(name)
+            other = proc.other_reading(name) if grade is not None else None
+            if other is None:
+                continue
+            alt = Runner(sim_factory(proc, {"app": app}, readings=other), self.profile, opts).run_case(v)
+            d, mine = alt.divergence, res.divergence
+            if mine is None:   # a divergence in what the IUT reported, not on the wire
+                same = d is None and alt.verdict == R.FAIL and alt.message == res.message
+            else:
+                same = d is not None and d.step == mine.step and d.observed == mine.observed
+            if not same:
+                continue
+            res.notes.append(f"failed: {res.message}")
+            res.verdict = grade
+            res.message = (f"the IUT takes the other reading of open point {name} (docs/readings.md), which "
+                           f"the procedure grades {grade}: the model with that reading does the same "
+                           f"({res.message})")
+            return
 
     def _rerun_budget(self, v: Vector, outcome: str, realtime: bool) -> int:
         """How many times a failed case runs again before its failure stands. A failure is
@@ -695,25 +833,37 @@ class Runner:
         if realtime and self.opts.retry_pause:
             time.sleep(self.opts.retry_pause[min(n, len(self.opts.retry_pause)) - 1])
 
-    def _attempt(self, v: Vector, steps, params: Any, res: R.CaseResult) -> str:
-        """Run once; fill ``res``; return "ok", "timing" (voided) or "late" (failed by
-        lateness only)."""
+    def _attempt(self, v: Vector, steps, params: Any, res: R.CaseResult, may_interrupt_earlier: bool = False) -> str:
+        """Run once; fill ``res``; return "ok", "timing" (voided), "late" (failed by
+        lateness only) or "displaced:N" (the stimulus of step N was meant to interrupt a
+        block that had ended; run again interrupting earlier)."""
         try:
             tr = self.factory(v, params)
         except TransportError as exc:
             res.verdict, res.message = R.ERROR, f"transport: {exc}"
             return "ok"
         tol = self.opts.tolerance or (VIRTUAL if tr.virtual else realtime_tolerance(v.proc, params, self.opts.late_ms))
+        if self.profile is not None and self.profile.timer_tolerance_ms:
+            tol = replace(tol, iut_timer=self.profile.timer_tolerance_ms / 1000.0)
         outcome = "ok"
         run: CaseRun | None = None
         info = None
         res.divergence = None
         try:
             tr.open()
-            run = CaseRun(v, steps, tr, params, tol, self.opts)
+            run = self.last_run = CaseRun(v, steps, tr, params, tol, self.opts)
             run.prologue(self.state)
-            run.run_steps()
-            run.epilogue()
+            try:
+                run.run_steps()
+                run.epilogue()
+            except StepFailed:
+                if run.displaced is not None and run.realtime and self.opts.rejudge and not (
+                        may_interrupt_earlier and earlier_interrupt(steps, run.displaced[0]) is not None):
+                    try:    # the case will be judged by the model: get the rest of the exchange
+                        run.observe_rest()
+                    except (StepFailed, Flood):
+                        pass
+                raise
             res.verdict, res.message = run.grade, "; ".join(run.notes)
         except StepFailed as exc:
             res.verdict, res.message, res.divergence = R.FAIL, exc.message, exc.div
@@ -755,11 +905,123 @@ class Runner:
             res.case_time = round(tr.now() - run.t0, 6) if tr.virtual else 0.0
             if res.verdict != R.ERROR:  # also for a failed attempt: the report shows what the IUT raised
                 self._judge_events(v, tr, res, run)
+            if res.verdict == R.FAIL and run.realtime and self.opts.rejudge:
+                outcome = self._rejudge(v, steps, params, tr, run, res, outcome, may_interrupt_earlier)
         return outcome
+
+    def _rejudge(self, v: Vector, steps, params: Any, tr: Transport, run: CaseRun, res: R.CaseResult,
+                 outcome: str, may_interrupt_earlier: bool) -> str:
+        """A failed real-time attempt, judged again by the model fed the line as it was
+        (:mod:`ptpcert.replay`):
+
+        * a stimulus meant to interrupt a block of the IUT went out when the whole block
+          was already on the line: the attempt is repeated once with the stimulus after the
+          block's first byte; if the block has ended again (an IUT that writes it in one
+          piece), the exchange is judged by the rule for the state the IUT was really in:
+          the model, fed the same line, must send what the IUT sent and raise what it
+          raised;
+        * otherwise, if the model fed the tester's bytes as early or as late as they may
+          have reached the IUT (the harness reads a byte late when it is descheduled, and
+          times its reply from that read) does what the IUT did, the divergence is the
+          harness's timing, not the IUT's: the attempt is void (run again; an error if it
+          keeps happening)."""
+        from . import replay as RP
+        from .transport import sim_factory
+
+        proc = v.proc
+        if run.displaced is not None:
+            stim, part = run.displaced
+            why = (f"the IUT's block (step {part + 1}) was on the line whole before the tester's stimulus (step "
+                   f"{stim + 1}) went out, so the stimulus reached an IUT whose block had ended")
+            if may_interrupt_earlier and earlier_interrupt(steps, stim) is not None:
+                res.message = f"{why}; the attempt is repeated with the stimulus after the block's first byte"
+                return f"displaced:{stim}"
+        elif res.divergence is None and not res.message.startswith("STATUS: "):
+            return outcome
+        tol = run.tol
+        margin = RP.Margin(early=lambda d: tol.early + tol.early_rel * max(d, 0.0),
+                           late=lambda d: tol.late(d) + (tol.iut_timer if d > 3 * run.char + 0.001 else 0.0))
+        wire = RP.Wire.from_log(run.log, run.lower_bound, run.rel(run.last_look))
+        app = "echo" if (self.profile is None or self.profile.echo) else "none"
+        factory = sim_factory(proc, {"app": app})
+        startup = RESTART in tr.capabilities
+
+        def model(late: bool, stall: float = 0.0):
+            return RP.replay(factory(v, params), wire, margin, late=late, startup_on_line=startup,
+                             longest=run.longest, char=run.char, stall=stall)
+
+        try:
+            if run.displaced is not None:
+                rep = model(late=False)
+                problems = self._status_by_model(v, run, rep.codes) if rep.agrees else []
+                if rep.agrees and not problems:
+                    res.verdict, res.divergence = R.PASS, None
+                    res.message = (f"{why}; the case's rule could not be exercised, so the exchange was judged by the "
+                                   "rule for that state (the reference model fed the same line does what the IUT did)")
+                else:
+                    res.verdict = R.FAIL
+                    res.message = (f"{why}; judged by the rule for that state (the reference model fed the same "
+                                   "line): " + (rep.why or "STATUS: " + "; ".join(problems)))
+                    if rep.at is not None:
+                        res.divergence = R.Divergence(-1, round(rep.at, 6), "what the reference model does on the "
+                                                      "same line", rep.why)
+                return "ok"
+            differences = []
+            # the machine stalled the harness noticeably: the IUT process may have been
+            # stalled as long (a third timeline); a stall under a character time is noise
+            stall = run.max_stall + run.look if run.max_stall > run.char else 0.0
+            timelines = [(False, 0.0), (True, 0.0)] + ([(False, stall)] if stall else [])
+            for late, stalled in timelines:
+                rep = model(late, stalled)
+                problems = self._status_by_model(v, run, rep.codes) if rep.agrees and res.divergence is None else []
+                differences.append(f"{rep.timeline} timeline: " + (rep.why or "STATUS: " + "; ".join(problems)))
+                if rep.agrees and not problems:
+                    how = (f"as late as a process stalled for up to {1000 * stalled:.1f} ms (the longest stall the "
+                           "harness measured in this attempt, plus its look period) may have taken them, with as "
+                           "many of its own bytes out as a stalled IUT may have had" if stalled else
+                           "as late after the IUT's bytes as they may have reached it (the harness read an IUT byte "
+                           "late and timed its reply from that read)" if late else
+                           "when they really went out (the IUT had acted before the tester's reply reached it)")
+                    res.notes.append(f"failed attempt: {res.message}")
+                    res.verdict = R.ERROR
+                    res.message = ("harness timing fault: the reference model, fed the tester's bytes " + how +
+                                   ", does what the IUT did; the divergence is the harness's timing, not the IUT's")
+                    return "timing"
+            res.notes.append("the reference model fed the line as it was does not do what the IUT did, however "
+                             "late the tester's bytes reached it (" + "; ".join(differences) + ")")
+        except Exception as exc:   # the re-judgement must never cost the verdict
+            res.notes.append(f"re-judging by the model failed: {type(exc).__name__}: {exc}")
+        if run.max_stall > tol.stimulus:
+            # The machine stalled the harness beyond the tolerance of its own timing in
+            # this attempt, and so, as likely, the IUT process: what the IUT saw on the
+            # line cannot be known well enough to blame it.
+            res.notes.append(f"failed attempt: {res.message}")
+            res.verdict = R.ERROR
+            res.message = (f"harness timing fault: the harness was stalled for up to {1000 * run.max_stall:.1f} ms "
+                           f"in this attempt (its own timing is kept to {1000 * tol.stimulus:.1f} ms); the IUT's "
+                           "divergence cannot be told from the machine's load")
+            return "timing"
+        return outcome
+
+    def _status_by_model(self, v: Vector, run: CaseRun, model_codes: list[int]) -> list[str]:
+        """STATUS judged by the model's own events on the same line: everything the IUT
+        raised is allowed by the case or raised by the model, and every event the case
+        requires is raised unless the model does not raise it either."""
+        if run.status_codes is None:
+            return []
+        spec = v.expected.iut_status
+        seen, model = set(run.status_codes), set(model_codes)
+        problems = ["missing " + " or ".join(f"16#{c:04X}" for c in sorted(g))
+                    for g in spec.required if not g & seen and g & model]
+        extra = sorted(c for c in seen if c not in spec.allowed and c not in model)
+        if extra:
+            problems.append("unexpected " + ", ".join(f"16#{c:04X}" for c in extra))
+        return problems
 
     def _judge_events(self, v: Vector, tr: Transport, res: R.CaseResult, run: CaseRun) -> None:
         if STATUS in tr.capabilities and self.opts.check_status:
             codes = [c for _, c in tr.status_reports()]
+            run.status_codes = codes
             res.observed_status = [status_text(c) for c in codes]
             res.status_checked = True
             problems = v.expected.iut_status.judge(codes)

@@ -220,7 +220,7 @@ def test_expected_failures_give_xfail_and_xpass(tmp_path):
 
 # -- reproducing failures that the machine's timing may have caused ----------------------
 
-def _edge_run(tmp_path, case_id, k, **opts):
+def _edge_run(tmp_path, case_id, k, iut_cdt_ms=200, **opts):
     """Run one suite case against an IUT that times out at half its CDT on its first k
     starts (tests/fakes/early_first.py); return the result, how often the IUT started, and
     how many attempts were judged. Attempts the harness voided because its own bytes went out
@@ -239,7 +239,7 @@ def _edge_run(tmp_path, case_id, k, **opts):
     profile = load_profile(prof)
     assert profile.params.cdt_ms == 200
     counter = tmp_path / f"starts-{case_id}-{k}"
-    url = f"exec:{PY} {ROOT / 'tests' / 'fakes' / 'early_first.py'} {counter} {k} --cdt-ms 200 --adt-ms 20 --parmrk"
+    url = f"exec:{PY} {ROOT / 'tests' / 'fakes' / 'early_first.py'} {counter} {k} --cdt-ms {iut_cdt_ms} --adt-ms 20 --parmrk"
     factory = make_factory(url, profile, prespawn=0)  # one process per attempt, started in order
     (case,) = load_suite(profile, load_vector_sets(), select=[case_id])
     try:
@@ -280,8 +280,12 @@ def test_a_timing_failure_away_from_a_timer_edge_is_confirmed_once(tmp_path):
 
 @pytest.mark.realtime
 def test_a_failure_in_the_bytes_away_from_a_timer_edge_is_not_run_again(tmp_path):
-    # a 3964R receiver that times out before the BCC answers NAK instead of DLE: wrong bytes
-    res, _, judged = _edge_run(tmp_path, "SUITE.RECEIVE.3964R-WAITS-FOR-BCC", k=99)
+    # a 3964R receiver that times out before the BCC answers NAK instead of DLE: wrong bytes.
+    # The case sends the BCC at half the CDT, just where the cdt-half mutant's timer runs out:
+    # that is an edge, and the reference driver takes input waiting when it wakes late before
+    # the timer that expired meanwhile (issue 10, false alarm 5). The broken IUT is therefore
+    # started with a CDT of 120 ms: it times out at 60 ms, 40 ms before the BCC goes out.
+    res, _, judged = _edge_run(tmp_path, "SUITE.RECEIVE.3964R-WAITS-FOR-BCC", k=99, iut_cdt_ms=120)
     assert res.verdict == "fail" and judged == 1
     assert "expected 10; received 15" in res.message
 
