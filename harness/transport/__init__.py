@@ -58,14 +58,13 @@ class ProcessFactory(Factory):
     between rounds), so that none outlives its use. Its methods may be called from several
     threads at once (``ptpcert run --jobs``): each case gets a process of its own."""
 
-    concurrency = sys.maxsize
-
     def __init__(self, cls, command: str, parmrk: bool, status: bool, prespawn: int = 2,
                  command_for: Callable[[Any, str], str | None] | None = None,
                  start_ahead: Callable[[Any], bool] | None = None, max_idle: float = 30.0):
         self.cls, self.command, self.parmrk, self.status = cls, command, parmrk, status
         probe = cls(command, parmrk=parmrk, status=status)
-        super().__init__(None, probe.capabilities | ({SETUPS} if command_for else frozenset()))
+        super().__init__(None, probe.capabilities | ({SETUPS} if command_for else frozenset()),
+                         concurrency=sys.maxsize)
         self.prespawn = int(prespawn)
         self.max_idle = max_idle
         self._command_for = command_for
