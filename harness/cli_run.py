@@ -237,7 +237,8 @@ def cmd_run(args) -> int:
         try:
             try:
                 for url in urls:
-                    pool.append((url, make_factory(url, profile)))
+                    # with --jobs, as many fresh IUTs started ahead as cases run at once
+                    pool.append((url, make_factory(url, profile, prespawn=max(2, min(args.jobs, 16)))))
                 factory = pool[0][1]
             except TransportError as exc:   # a URL or port that cannot work: bad usage, nothing run
                 interrupts.disarm()

@@ -743,7 +743,15 @@ class Runner:
             from .parallel import ParallelRun
 
             devices = list(pool) if pool else [(getattr(self.factory, "url", ""), self.factory)]
-            make = lambda f: Runner(f, self.profile, self.opts)  # noqa: E731 - a runner (and its state) per worker
+            # a runner per worker; what the runner learns about an IUT (does a fresh one send
+            # its start-up NAK? is the line settled?) is shared by the workers of one device:
+            # a worker whose first IUT was slow to start must not teach itself that none does
+            states: dict[int, RunnerState] = {id(self.factory): self.state}
+
+            def make(f) -> "Runner":
+                r = Runner(f, self.profile, self.opts)
+                r.state = states.setdefault(id(f), RunnerState())
+                return r
             return ParallelRun(make, devices, jobs, name_devices=bool(pool)).run(vs, result, progress, max_failures)
         t0 = time.monotonic()
         stop_reason = ""
