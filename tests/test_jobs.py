@@ -313,3 +313,24 @@ def test_a_pool_of_two_port_servers(tmp_path):
     assert all(u in data["iut"] for u in urls)
     props = [p.get("value") for p in ET.parse(junit).getroot().iter("property") if p.get("name") == "device"]
     assert set(props) == set(urls)
+
+
+def test_the_workers_of_one_device_share_what_the_runner_learns(monkeypatch):
+    import ptpcert.parallel as P
+
+    seen = []
+
+    def fake_run(self, vs, result, progress, max_failures):
+        runners = [self.make_runner(f) for _, f in self.pool for _ in range(3)]
+        seen.append([r.state for r in runners])
+        return result
+    monkeypatch.setattr(P.ParallelRun, "run", fake_run)
+    prof = load_profile(PROFILE)
+    a, b = make_factory("sim:", prof), make_factory("sim:?priority=high", prof)
+    runner = Runner(a, prof)
+    runner.run([], new_result(), jobs=4)
+    assert all(s is runner.state for s in seen[0])
+    runner.run([], new_result(), pool=[("a", a), ("b", b)])
+    states = seen[1]
+    assert all(s is states[0] for s in states[:3]) and all(s is states[3] for s in states[3:])
+    assert states[0] is not states[3]
