@@ -217,7 +217,9 @@ def cmd_run(args) -> int:
     if problem:
         print(f"ptpcert run: {problem}", file=sys.stderr)
         return 2
-    urls = list(dict.fromkeys(u.strip() for u in args.iut))   # the same device twice is one device
+    # --iut given several times is a pool (the same device twice is one device)
+    urls = list(dict.fromkeys(u.strip() for u in ([args.iut] if isinstance(args.iut, str) else args.iut)))
+    jobs = getattr(args, "jobs", 1)
     result = R.RunResult(tool_version=__version__, started=_now(), iut=" | ".join(urls), procedure=profile.procedure.title,
                          profile=profile.to_dict(), profile_path=str(args.profile),
                          vector_set=vector_set_label(args.vectors, args.vectors_only), vector_set_hash=vector_set_hash(cases),
@@ -238,7 +240,7 @@ def cmd_run(args) -> int:
             try:
                 for url in urls:
                     # with --jobs, as many fresh IUTs started ahead as cases run at once
-                    pool.append((url, make_factory(url, profile, prespawn=max(2, min(args.jobs, 16)))))
+                    pool.append((url, make_factory(url, profile, prespawn=max(2, min(jobs, 16)))))
                 factory = pool[0][1]
             except TransportError as exc:   # a URL or port that cannot work: bad usage, nothing run
                 interrupts.disarm()
@@ -255,8 +257,10 @@ def cmd_run(args) -> int:
             except TransportError as exc:   # the IUT cannot start: every case is an error, with the reason
                 startup_failure = str(exc)
             if not startup_failure:
-                Runner(factory, profile, opts).run(cases, result, progress, max_failures=args.max_failures,
-                                                   jobs=args.jobs, pool=pool if len(pool) > 1 else None)
+                more = {"jobs": jobs} if jobs > 1 else {}
+                if len(pool) > 1:
+                    more["pool"] = pool
+                Runner(factory, profile, opts).run(cases, result, progress, max_failures=args.max_failures, **more)
             interrupts.disarm()
         except KeyboardInterrupt:
             result.interrupted = True
