@@ -90,6 +90,9 @@ class ParallelRun:
         self.name_devices = name_devices
         self._lock = threading.Lock()
         self._stop = threading.Event()
+        self._idle = threading.Event()   # set when no worker is left
+        self._idle.set()
+        self._alive = 0
 
     def run(self, vs, result: R.RunResult, progress: Progress | None, max_failures: int) -> R.RunResult:
         n = len(vs)
@@ -106,6 +109,7 @@ class ParallelRun:
         failures = [0]
         stop_reason = ""
         t0 = time.monotonic()
+        before = len(result.cases)
         todo: queue.Queue[int] = queue.Queue()
         for i in range(n):
             todo.put(i)
@@ -119,6 +123,15 @@ class ParallelRun:
                     progress(emitted[0], n, c, running=running[0])
 
         def work(w: int) -> None:
+            try:
+                work_on(w)
+            finally:
+                with self._lock:
+                    self._alive -= 1
+                    if not self._alive:
+                        self._idle.set()
+
+        def work_on(w: int) -> None:
             runner = runners[w]
             factory = runner.factory
             prepare = getattr(factory, "prepare", None)
@@ -129,13 +142,14 @@ class ParallelRun:
                     return
                 with self._lock:
                     running[0] += 1
-                    if prepare is not None and i + 1 < n:
-                        nxt = vs[i + 1]
-                        if runner.unsupported_reason(nxt, factory.capabilities) is None:
-                            try:
-                                prepare(nxt, runner.effective_params(nxt))
-                            except Exception:   # starting ahead is an optimisation only
-                                pass
+                if prepare is not None and i + 1 < n:
+                    # the case the next free worker takes: its IUT starts while this one runs
+                    nxt = vs[i + 1]
+                    if runner.unsupported_reason(nxt, factory.capabilities) is None:
+                        try:
+                            prepare(nxt, runner.effective_params(nxt))
+                        except Exception:   # starting ahead is an optimisation only
+                            pass
                 try:
                     c = runner.run_case(vs[i])
                 except BaseException as exc:   # never lose a case without a result
@@ -179,9 +193,12 @@ class ParallelRun:
                 self._stop.clear()
                 threads = [threading.Thread(target=work, args=(w,), name=f"ptpcert-job-{w}", daemon=True)
                            for w in range(len(plan))]
+                # before they start: an interrupt may come at any point
+                self._alive = len(threads)
+                self._idle.clear()
                 for t in threads:
                     t.start()
-                self._join(threads)
+                self._join()
                 confirm()
                 if todo.empty():
                     break
@@ -193,40 +210,42 @@ class ParallelRun:
             stop_reason = "run interrupted"
             self._join_quietly()
         finally:
-            # the serial run's semantics: the results in order up to where it would have stopped
+            # the serial run's semantics: the results in order, up to where it would have stopped
             count = 0
-            for i in range(n):
+            for i, v in enumerate(vs):
                 c = done[i]
-                if c is None or not final[i]:
-                    break
-                result.cases.append(c)
-                count += c.verdict in R.FAILING
-                if max_failures and count >= max_failures:
-                    stop_reason = f"not run: the run stopped after {count} failed case(s) (--max-failures)"
-                    break
-            if len(result.cases) < n and not stop_reason:
-                stop_reason = "run interrupted"
-            if stop_reason:
-                have = {c.id for c in result.cases}
-                for v in vs:
-                    if v.id not in have:
-                        result.cases.append(R.CaseResult(v.id, v.title, v.reference, v.rule, v.group, v.iut_role,
-                                                         verdict=R.NOT_RUN, message=stop_reason))
+                if c is not None and final[i]:
+                    result.cases.append(c)
+                    count += c.verdict in R.FAILING
+                    if max_failures and count >= max_failures:
+                        stop_reason = f"not run: the run stopped after {count} failed case(s) (--max-failures)"
+                        break
+                    continue
+                why = stop_reason or "run interrupted"
+                if c is not None:   # interrupted before its failure beside other cases was confirmed alone
+                    why = (f"{why} before the case could run again alone (beside other cases it ended "
+                           f"{c.verdict}: {c.message})")
+                result.cases.append(R.CaseResult(v.id, v.title, v.reference, v.rule, v.group, v.iut_role,
+                                                 verdict=R.NOT_RUN, message=why))
+            for v in vs[len(result.cases) - before:]:
+                result.cases.append(R.CaseResult(v.id, v.title, v.reference, v.rule, v.group, v.iut_role,
+                                                 verdict=R.NOT_RUN, message=stop_reason))
             result.wall_time = round(time.monotonic() - t0, 3)
         return result
 
-    def _join(self, threads) -> None:
-        self._threads = threads
-        for t in threads:
-            while t.is_alive():
-                t.join(0.2)   # short joins: Ctrl-C reaches the main thread
+    def _join(self) -> None:
+        """Wait for the workers. Not with Thread.join: a KeyboardInterrupt inside it can
+        leave a running thread marked as ended (CPython gh-90882), and then the cases in
+        flight would be lost."""
+        while not self._idle.wait(0.2):
+            pass
 
     def _join_quietly(self) -> None:
         """After an interrupt: the cases in flight end (each within its own bounds) before
         their IUTs are stopped and the reports written."""
-        for t in getattr(self, "_threads", []):
-            while t.is_alive():
-                try:
-                    t.join(0.2)
-                except KeyboardInterrupt:
-                    pass
+        while True:
+            try:
+                self._join()
+                return
+            except KeyboardInterrupt:
+                pass

@@ -334,3 +334,40 @@ def test_the_workers_of_one_device_share_what_the_runner_learns(monkeypatch):
     states = seen[1]
     assert all(s is states[0] for s in states[:3]) and all(s is states[3] for s in states[3:])
     assert states[0] is not states[3]
+
+
+def test_an_interrupt_keeps_what_ran_and_reports_the_rest_as_not_run():
+    """Ctrl-C in the middle: the cases that ended keep their results, in order; a failure
+    beside other cases that could not be confirmed alone is not-run (never a failure); the
+    cases not reached are not-run."""
+    started = threading.Event()
+    vs = [FakeVector(i) for i in range(12)]
+
+    class Slow(FakeRunner):
+        def run_case(self, v):
+            if v.id == "C002":
+                return R.CaseResult(v.id, v.title, v.reference, v.rule, v.group, v.iut_role, verdict=R.FAIL,
+                                    message="late reply")
+            if v.id == "C004":
+                started.set()
+                time.sleep(0.3)
+            else:
+                time.sleep(0.1)   # the interrupt comes long before the last case
+            return super().run_case(v)
+
+    def interrupt():
+        started.wait(5)
+        import _thread
+        _thread.interrupt_main()
+
+    pr = ParallelRun(lambda f: Slow(f, lambda cid, alone: R.PASS, []), fake_pool("x", concurrency=sys.maxsize),
+                     2, False)
+    threading.Thread(target=interrupt).start()
+    res = pr.run(vs, new_result(), None, 0)
+    assert res.interrupted and [c.id for c in res.cases] == [v.id for v in vs]
+    by = {c.id: c for c in res.cases}
+    assert by["C000"].verdict == R.PASS and by["C001"].verdict == R.PASS
+    assert by["C002"].verdict == R.NOT_RUN and "late reply" in by["C002"].message
+    assert by["C004"].verdict == R.PASS          # in flight: it ended before the reports
+    assert by["C011"].verdict == R.NOT_RUN and by["C011"].message == "run interrupted"
+    assert R.FAIL not in {c.verdict for c in res.cases}
