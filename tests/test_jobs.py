@@ -371,3 +371,24 @@ def test_an_interrupt_keeps_what_ran_and_reports_the_rest_as_not_run():
     assert by["C004"].verdict == R.PASS          # in flight: it ended before the reports
     assert by["C011"].verdict == R.NOT_RUN and by["C011"].message == "run interrupted"
     assert R.FAIL not in {c.verdict for c in res.cases}
+
+
+@pytest.mark.realtime
+def test_rk512_with_jobs_runs_per_case_commands_and_request_scripts(tmp_path):
+    """RK 512 over exec: with --jobs 3: the cases whose IUT runs a request script of its own
+    (written once, read by several processes at the same time) pass as serially, in order."""
+    from test_rk512_suite import REALTIME, SUBSET, iut_command, ptpcert_run, rk_profile_dict
+
+    raw = rk_profile_dict(**REALTIME)
+    select = SUBSET[:6] + SUBSET[12:18]   # passive and active (request scripts) cases
+    args = [a for s in select for a in ("--select", s)]
+    p, data = ptpcert_run(tmp_path, iut_command(raw, scheme="exec"), raw, *args, "--jobs", "3")
+    cases = data["cases"]
+    bad = {c["id"]: c["message"] for c in cases if c["verdict"] in ("fail", "xpass")}
+    assert not bad, bad
+    assert all(c["message"].startswith("harness timing fault") for c in cases if c["verdict"] == "error")
+    assert sum(c["verdict"] == "pass" for c in cases) >= len(cases) - 2 >= 8
+    assert any(c["id"].startswith("SUITE.RK512.A-") for c in cases)   # the IUT ran requests
+    # the order is the serial one: the suite's order for the same selection
+    _, serial = ptpcert_run(tmp_path, "sim:", raw, *args)
+    assert [c["id"] for c in cases] == [c["id"] for c in serial["cases"]]
