@@ -392,3 +392,19 @@ def test_rk512_with_jobs_runs_per_case_commands_and_request_scripts(tmp_path):
     # the order is the serial one: the suite's order for the same selection
     _, serial = ptpcert_run(tmp_path, "sim:", raw, *args)
     assert [c["id"] for c in cases] == [c["id"] for c in serial["cases"]]
+
+
+def test_a_case_that_fails_alone_once_runs_alone_once_more():
+    alone_runs = []
+
+    def verdict(cid, alone):
+        if cid != "C003":
+            return R.PASS
+        if not alone:
+            return R.FAIL
+        alone_runs.append(cid)
+        return R.FAIL if len(alone_runs) == 1 else R.PASS
+    vs, res, log, _ = run_fake(fake_pool("x", concurrency=sys.maxsize), 4, verdict, n=12, name_devices=False)
+    c = {c.id: c for c in res.cases}["C003"]
+    assert c.verdict == R.PASS and len(alone_runs) == 2
+    assert "ran again alone with verdict fail" in " ".join(c.notes) and "ran alone 2 time(s)" in " ".join(c.notes)
