@@ -19,14 +19,30 @@ BUDGET_S = number(float, 1, 7 * 24 * 3600, "seconds")
 MAX_ACTIONS = number(int, 1, 100)
 
 
+def JOBS(text: str) -> int:
+    """``--jobs``: a whole number from 1, or ``auto``."""
+    import argparse
+
+    from .parallel import parse_jobs
+    try:
+        return parse_jobs(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
 def add_commands(sub) -> None:
     r = sub.add_parser("run", help="run the suite against an implementation under test",
                        description="Run the conformance cases against an IUT and write the reports. "
                                    "Exit status: 0 nothing failed, 1 a case failed or xpassed, "
                                    "2 bad usage or a harness error.")
-    r.add_argument("--iut", required=True, metavar="URL",
-                   help="exec:COMMAND | pty:COMMAND (with {port}) | sim:[?opts] | a pyserial URL or device")
+    r.add_argument("--iut", required=True, metavar="URL", action="append",
+                   help="exec:COMMAND | pty:COMMAND (with {port}) | sim:[?opts] | a pyserial URL or device; "
+                        "given several times: a pool of identical IUTs, the cases spread over them")
     r.add_argument("--profile", required=True, metavar="FILE", help="the IUT profile (TOML)")
+    r.add_argument("--jobs", type=JOBS, default=1, metavar="N",
+                   help="cases run at the same time where each gets an IUT of its own (exec:, pty:, sim:), "
+                        "or over a pool; auto: the number of cores (default 1). A device or port server "
+                        "is one line: it runs one case at a time")
     r.add_argument("--select", action="append", metavar="GLOB", help="only cases whose id matches (repeatable)")
     r.add_argument("--junit", metavar="PATH", help="write a JUnit XML file")
     r.add_argument("--json", metavar="PATH", help="write the results object as JSON")
@@ -201,34 +217,50 @@ def cmd_run(args) -> int:
     if problem:
         print(f"ptpcert run: {problem}", file=sys.stderr)
         return 2
-    result = R.RunResult(tool_version=__version__, started=_now(), iut=args.iut, procedure=profile.procedure.title,
+    # --iut given several times is a pool (the same device twice is one device)
+    urls = list(dict.fromkeys(u.strip() for u in ([args.iut] if isinstance(args.iut, str) else args.iut)))
+    jobs = getattr(args, "jobs", 1)
+    result = R.RunResult(tool_version=__version__, started=_now(), iut=" | ".join(urls), procedure=profile.procedure.title,
                          profile=profile.to_dict(), profile_path=str(args.profile),
                          vector_set=vector_set_label(args.vectors, args.vectors_only), vector_set_hash=vector_set_hash(cases),
                          html_path=args.html or "")
 
-    def progress(i, n, c):
+    def progress(i, n, c, running=None):
         if not args.quiet:
-            print(rep.progress_line(i, n, c), flush=True)
+            line = rep.progress_line(i, n, c)
+            if running is not None:
+                line += f"  [{running} running]"
+            print(line, flush=True)
 
     factory = None
+    pool: list = []
     startup_failure = fault = ""
     with Interrupts(args) as interrupts:
         try:
             try:
-                factory = make_factory(args.iut, profile)
+                for url in urls:
+                    # with --jobs, as many fresh IUTs started ahead as cases run at once
+                    pool.append((url, make_factory(url, profile, prespawn=max(2, min(jobs, 16)))))
+                factory = pool[0][1]
             except TransportError as exc:   # a URL or port that cannot work: bad usage, nothing run
                 interrupts.disarm()
+                for _, f in pool:
+                    f.shutdown()
                 print(f"ptpcert run: {exc}", file=sys.stderr)
                 return 2
             opts = RunOptions(late_ms=args.tolerance_ms, startup_timeout=args.startup_timeout,
                               echo=profile.echo, check_status=profile.status_from_stderr,
                               edge_attempts=args.edge_attempts)
             try:
-                preflight(args.iut, factory, profile)
+                for url, f in pool:
+                    preflight(url, f, profile)
             except TransportError as exc:   # the IUT cannot start: every case is an error, with the reason
                 startup_failure = str(exc)
             if not startup_failure:
-                Runner(factory, profile, opts).run(cases, result, progress, max_failures=args.max_failures)
+                more = {"jobs": jobs} if jobs > 1 else {}
+                if len(pool) > 1:
+                    more["pool"] = pool
+                Runner(factory, profile, opts).run(cases, result, progress, max_failures=args.max_failures, **more)
             interrupts.disarm()
         except KeyboardInterrupt:
             result.interrupted = True
@@ -242,8 +274,8 @@ def cmd_run(args) -> int:
             mark_not_run(result, cases, R.ERROR, f"not run: {fault}")
         elif result.interrupted:
             mark_not_run(result, cases, R.NOT_RUN, "run interrupted")
-        if factory is not None:
-            factory.shutdown()
+        for _, f in pool:
+            f.shutdown()
         result.finished = _now()
         if interrupts.count:
             result.interrupted = True

@@ -895,6 +895,8 @@ def _case(c: R.CaseResult, used: set[str]) -> str:
     rows.append(("a CP 341 in the tester's seat raises", _codes_in_text(c.tester_status or "none", used)))
     if c.readings:
         rows.append(("open points (readings)", esc(", ".join(c.readings))))
+    if c.device:
+        rows.append(("device", esc(c.device)))
     rows.append(("attempts", esc(c.attempts)))
     dur = f"{c.duration:.3f} s wall"
     if c.case_time:

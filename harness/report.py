@@ -102,7 +102,25 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
         if k != "expected_failures":
             props[f"profile.{k}"] = str(v)
     suite = TestSuite(f"ptpcert {run.procedure or '3964/3964R'} conformance", cases, timestamp=run.started, properties=props)
-    R.write_atomic(path, to_xml_report_string([suite], prettyprint=True))
+    xml = to_xml_report_string([suite], prettyprint=True)
+    if any(c.device for c in run.cases):
+        xml = _with_devices(xml, [c.device for c in run.cases])
+    R.write_atomic(path, xml)
+
+
+def _with_devices(xml: str, devices: list[str]) -> str:
+    """Each test case of a pool's run gets the property ``device``: the IUT that ran it
+    (the cases are in the results' order; the interrupted marker, if any, comes after)."""
+    import xml.etree.ElementTree as ET
+
+    root = ET.fromstring(xml)
+    for tc, device in zip(root.iter("testcase"), devices):
+        if device:
+            props = ET.Element("properties")
+            ET.SubElement(props, "property", name="device", value=device)
+            tc.insert(0, props)
+    ET.indent(root, space="\t")
+    return "<?xml version=\"1.0\" ?>\n" + ET.tostring(root, encoding="unicode") + "\n"
 
 
 def progress_line(i: int, n: int, c: R.CaseResult) -> str:

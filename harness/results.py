@@ -82,6 +82,7 @@ class CaseResult:
     params: dict[str, Any] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
     rules: list[str] = field(default_factory=list)  # ids of the manual's rules the case checks
+    device: str = ""                   # the IUT of a pool (--iut given several times) that ran the case
 
     @property
     def failed(self) -> bool:

@@ -1054,8 +1054,27 @@ class Runner:
     # -- a whole run -----------------------------------------------------------------
     def run(self, vectors: Iterable[Vector], result: R.RunResult,
             progress: Callable[[int, int, R.CaseResult], None] | None = None,
-            max_failures: int = 0) -> R.RunResult:
+            max_failures: int = 0, jobs: int = 1,
+            pool: list[tuple[str, Any]] | None = None) -> R.RunResult:
+        """Run ``vectors`` and append their results to ``result`` in order. ``jobs`` > 1
+        runs cases concurrently where the factory starts an IUT per case; ``pool`` (device
+        name, factory) spreads the cases over several identical IUTs and names in each result
+        the device that ran it (see :mod:`ptpcert.parallel`)."""
         vs = list(vectors)
+        if pool or (jobs > 1 and getattr(self.factory, "concurrency", 1) > 1):
+            from .parallel import ParallelRun
+
+            devices = list(pool) if pool else [(getattr(self.factory, "url", ""), self.factory)]
+            # a runner per worker; what the runner learns about an IUT (does a fresh one send
+            # its start-up NAK? is the line settled?) is shared by the workers of one device:
+            # a worker whose first IUT was slow to start must not teach itself that none does
+            states: dict[int, RunnerState] = {id(self.factory): self.state}
+
+            def make(f) -> "Runner":
+                r = Runner(f, self.profile, self.opts)
+                r.state = states.setdefault(id(f), RunnerState())
+                return r
+            return ParallelRun(make, devices, jobs, name_devices=bool(pool)).run(vs, result, progress, max_failures)
         t0 = time.monotonic()
         stop_reason = ""
         failures = 0

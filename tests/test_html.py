@@ -491,6 +491,65 @@ def test_screenshot_in_headless_chromium(full_run):
     assert re.search(f'id="{target}" data-verdict="pass"><details open', dom)
 
 
+#: run in the page before its own script: collects what would go to the console as errors
+PROBE_HEAD = """<script>window.__errors=[];
+window.addEventListener('error',function(e){window.__errors.push('error: '+e.message);});
+window.addEventListener('unhandledrejection',function(e){window.__errors.push('rejection: '+e.reason);});
+(function(){var ce=console.error;console.error=function(){window.__errors.push('console.error: '+
+Array.prototype.join.call(arguments,' '));return ce.apply(console,arguments);};})();</script>"""
+
+#: run after the page's own script: opens every case, measures the sequence diagrams, works
+#: the verdict filter as a person would (a click on a check box), and writes what it saw
+PROBE_TAIL = """<script>(function(){
+function shown(el){return el.getClientRects().length>0;}
+function count(v){return Array.prototype.filter.call(document.querySelectorAll('section.case[data-verdict="'+v+'"]'),shown).length;}
+var out={errors:window.__errors,filterShown:shown(document.getElementById('filter'))};
+document.getElementById('expand-all').click();
+var svgs=document.querySelectorAll('svg.seq');out.svgs=svgs.length;
+out.sized=Array.prototype.filter.call(svgs,function(s){var r=s.getBoundingClientRect();return r.width>=200&&r.height>=40;}).length;
+out.before={pass:count('pass'),fail:count('fail')};
+var box=document.querySelector('#filter input[data-v="pass"]');box.click();
+out.after={pass:count('pass'),fail:count('fail')};
+box.click();out.again={pass:count('pass'),fail:count('fail')};
+out.errors=window.__errors;
+var pre=document.createElement('pre');pre.id='probe';pre.textContent=JSON.stringify(out);document.body.appendChild(pre);
+})();</script>"""
+
+
+@pytest.mark.realtime
+def test_the_report_works_in_headless_chromium(full_run, tmp_path):
+    """In a real browser (headless Chromium, its DOM dumped after a script that works the
+    page): no console errors, every sequence diagram has a visible size once its case is
+    open, and the verdict filter hides the cases of a verdict and shows them again."""
+    if not CHROMIUM.exists():
+        pytest.skip("/usr/bin/chromium is not installed (Debian package 'chromium'; .ci/run installs it)")
+    text = H.render(mixed_run(full_run))
+    assert text.count("<head>") == 1 and text.count("</body>") == 1
+    page = tmp_path / "probe.html"
+    page.write_text(text.replace("<head>", "<head>" + PROBE_HEAD).replace("</body>", PROBE_TAIL + "</body>"),
+                    "utf-8")
+    flags = ["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-background-networking",
+             "--disable-component-update", "--disable-sync", "--window-size=1400,1000",
+             "--enable-logging=stderr", "--v=0"]
+    with tempfile.TemporaryDirectory() as profile_dir:
+        p = subprocess.run([str(CHROMIUM), *flags, f"--user-data-dir={profile_dir}", "--dump-dom", page.as_uri()],
+                           capture_output=True, text=True, timeout=90)
+    m = re.search(r'<pre id="probe">(.*?)</pre>', p.stdout, re.S)
+    assert m, "the probe did not run: " + p.stderr[-2000:]
+    import html as _html
+    import json as _json
+    seen = _json.loads(_html.unescape(m.group(1)))
+    assert seen["errors"] == [] and "Uncaught" not in p.stderr, (seen["errors"], p.stderr[-2000:])
+    assert seen["filterShown"]                                  # the script ran and showed the filter
+    want = len(case_svgs(text))
+    assert want >= 8 and seen["svgs"] == want and seen["sized"] == want, seen
+    verdicts = [v for _, v in Page(text).cases]
+    assert seen["before"] == {"pass": verdicts.count("pass"), "fail": verdicts.count("fail")}, seen
+    assert seen["before"]["pass"] > 0 and seen["before"]["fail"] > 0
+    assert seen["after"] == {"pass": 0, "fail": seen["before"]["fail"]}, seen   # only the passes hidden
+    assert seen["again"] == seen["before"], seen
+
+
 def test_traceability_section_gives_each_rule_this_runs_verdict():
     from ptpcert.html_rules import rule_verdicts, traceability_section
     from ptpcert.rules import for_procedure

@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import re
 import shutil
+import sys
 import tempfile
+import threading
 import time
 from typing import Any, Callable
 
@@ -22,12 +24,19 @@ class Factory:
 
     capabilities: frozenset[str] = frozenset()
     virtual = False
+    #: how many cases can run at the same time on what this factory reaches: 1 for one line
+    #: (a device, a port server); any number where each case gets an IUT of its own
+    concurrency = 1
+    #: the ``--iut`` URL it was made from (names the device in a pool's reports)
+    url = ""
 
-    def __init__(self, make, capabilities: frozenset[str], virtual: bool = False, shutdown=None):
+    def __init__(self, make, capabilities: frozenset[str], virtual: bool = False, shutdown=None,
+                 concurrency: int = 1):
         self._make = make
         self.capabilities = capabilities
         self.virtual = virtual
         self._shutdown = shutdown
+        self.concurrency = concurrency
 
     def __call__(self, vector, params: Any) -> Transport:
         return self._make(vector, params)
@@ -46,14 +55,16 @@ class ProcessFactory(Factory):
     replaced (30 s: longer than a case at the manual's default timers takes, so a run never
     throws a process away, and a bound on how long one can wait for nothing), and
     :meth:`release` stops every one started ahead (a caller that pauses, such as the fuzzer
-    between rounds), so that none outlives its use."""
+    between rounds), so that none outlives its use. Its methods may be called from several
+    threads at once (``ptpcert run --jobs``): each case gets a process of its own."""
 
     def __init__(self, cls, command: str, parmrk: bool, status: bool, prespawn: int = 2,
                  command_for: Callable[[Any, str], str | None] | None = None,
                  start_ahead: Callable[[Any], bool] | None = None, max_idle: float = 30.0):
         self.cls, self.command, self.parmrk, self.status = cls, command, parmrk, status
         probe = cls(command, parmrk=parmrk, status=status)
-        super().__init__(None, probe.capabilities | ({SETUPS} if command_for else frozenset()))
+        super().__init__(None, probe.capabilities | ({SETUPS} if command_for else frozenset()),
+                         concurrency=sys.maxsize)
         self.prespawn = int(prespawn)
         self.max_idle = max_idle
         self._command_for = command_for
@@ -61,28 +72,34 @@ class ProcessFactory(Factory):
         self._ready: dict[str, list[tuple[float, Transport]]] = {}
         self._workdir: str | None = None
         self._plain: str | None = None
+        self._lock = threading.RLock()
+        self._starting = 0   # processes being started ahead by some thread
 
     @property
     def plain(self) -> str:
         """The command as a case without needs of its own runs it: the template as the
         procedure completes it (e.g. with an empty RK 512 request script)."""
-        if self._plain is None:
-            self._plain = self.command
-            if self._command_for is not None:
-                self._plain = self._command_for(None, self.workdir) or self.command
-        return self._plain
+        with self._lock:
+            if self._plain is None:
+                plain = self.command
+                if self._command_for is not None:
+                    plain = self._command_for(None, self.workdir) or self.command
+                self._plain = plain
+            return self._plain
 
     @property
     def workdir(self) -> str:
         """A private directory for the files per-case commands need (request scripts)."""
-        if self._workdir is None:
-            self._workdir = tempfile.mkdtemp(prefix="ptpcert-iut-")
-        return self._workdir
+        with self._lock:
+            if self._workdir is None:
+                self._workdir = tempfile.mkdtemp(prefix="ptpcert-iut-")
+            return self._workdir
 
     def command_for(self, vector) -> str:
         if vector is None or self._command_for is None:
             return self.plain
-        cmd = self._command_for(vector, self.workdir)
+        with self._lock:   # a request script is written once, whole, before any process reads it
+            cmd = self._command_for(vector, self.workdir)
         if cmd is None:
             what = f"setup {vector.setup[0]!r}" if vector.setup else "what the case needs"
             raise TransportError(f"case {vector.id}: the profile has no {what}")
@@ -94,27 +111,42 @@ class ProcessFactory(Factory):
         return t
 
     def _ahead(self, command: str) -> None:
-        self._ready.setdefault(command, []).append((time.monotonic(), self._started(command)))
+        t = self._started(command)   # outside the lock: other threads take theirs meanwhile
+        with self._lock:
+            self._ready.setdefault(command, []).append((time.monotonic(), t))
 
     def _take(self, command: str) -> Transport | None:
-        ready = self._ready.get(command)
-        while ready:
-            since, t = ready.pop(0)
-            if time.monotonic() - since <= self.max_idle:
-                return t
-            t.close()   # waited too long: stopped, not kept alive for a case that may never come
-        return None
+        stale = []
+        try:
+            with self._lock:
+                ready = self._ready.get(command)
+                while ready:
+                    since, t = ready.pop(0)
+                    if time.monotonic() - since <= self.max_idle:
+                        return t
+                    stale.append(t)   # waited too long: stopped, not kept for a case that may never come
+            return None
+        finally:
+            for t in stale:
+                t.close()
 
     def __call__(self, vector, params: Any) -> Transport:
         cmd = self.command_for(vector)
         t = self._take(cmd) or self._started(cmd)
         self.reap()
-        plain = self._ready.setdefault(self.plain, [])
-        while len(plain) < self.prespawn:
+        plain = self.plain
+        while True:
+            with self._lock:
+                if len(self._ready.get(plain, ())) + self._starting >= self.prespawn:
+                    break
+                self._starting += 1
             try:
-                self._ahead(self.plain)
+                self._ahead(plain)
             except TransportError:
                 break
+            finally:
+                with self._lock:
+                    self._starting -= 1
         return t
 
     def prepare(self, vector, params: Any) -> None:
@@ -126,29 +158,39 @@ class ProcessFactory(Factory):
             cmd = self.command_for(vector)
         except TransportError:
             return
-        if cmd != self.plain and not self._ready.get(cmd):
-            try:
-                self._ahead(cmd)
-            except TransportError:
-                pass
+        with self._lock:
+            if cmd == self.plain or self._ready.get(cmd):
+                return
+        try:
+            self._ahead(cmd)
+        except TransportError:
+            pass
 
     def reap(self) -> None:
         """Stop the processes started ahead that have waited longer than ``max_idle``."""
         now = time.monotonic()
-        for ready in self._ready.values():
-            for item in [x for x in ready if now - x[0] > self.max_idle]:
-                ready.remove(item)
-                item[1].close()
+        stale = []
+        with self._lock:
+            for ready in self._ready.values():
+                for item in [x for x in ready if now - x[0] > self.max_idle]:
+                    ready.remove(item)
+                    stale.append(item[1])
+        for t in stale:
+            t.close()
 
     def release(self) -> None:
         """Stop every process started ahead (the caller will not start a case soon)."""
-        for ready in self._ready.values():
-            while ready:
-                ready.pop()[1].close()
+        with self._lock:
+            stale = [item[1] for ready in self._ready.values() for item in ready]
+            for ready in self._ready.values():
+                ready.clear()
+        for t in stale:
+            t.close()
 
     def alive(self) -> int:
         """How many processes started ahead are waiting."""
-        return sum(len(r) for r in self._ready.values())
+        with self._lock:
+            return sum(len(r) for r in self._ready.values())
 
     def shutdown(self) -> None:
         self.release()
@@ -180,7 +222,9 @@ def sim_factory(procedure, options: dict[str, str] | None = None, *, readings=No
             tester = params
         return SimTransport(params, host_factory, url=url, char_time=procedure.char_time(params),
                             tester_char=procedure.char_time(tester))
-    return Factory(make, SimTransport.capabilities | caps, virtual=True)
+    f = Factory(make, SimTransport.capabilities | caps, virtual=True, concurrency=sys.maxsize)
+    f.url = url
+    return f
 
 
 _SCHEME = re.compile(r"^([A-Za-z][A-Za-z0-9+.-]*):")
@@ -208,6 +252,12 @@ def check_scheme(url: str) -> None:
 
 def make_factory(url: str, profile, *, prespawn: int = 2) -> Factory:
     """Turn an ``--iut`` URL into a :class:`Factory` for the IUT ``profile`` describes."""
+    f = _make_factory(url.strip(), profile, prespawn=prespawn)
+    f.url = url.strip()
+    return f
+
+
+def _make_factory(url: str, profile, *, prespawn: int = 2) -> Factory:
     url = url.strip()
     if not url:
         raise TransportError(f"--iut is empty; use {SCHEMES}")
