@@ -1,0 +1,131 @@
+"""The fuzzer's partner (ptpcert fuzz, level 2) is reactive and its vectors are replayable:
+it sends its next stimulus only after the replies the protocol requires are complete
+(unless the stimulus deliberately interrupts the IUT's block), it keeps every stimulus
+further from the IUT's timer edges than the runner's real-time tolerance can tell apart,
+the vectors it writes have no negative offsets, and a finding stands only if its exported
+vector fails on replay. All in virtual time (sim:)."""
+
+from dataclasses import replace
+
+import pytest
+from hypothesis import Phase, given, settings, strategies as st
+
+from ptpcert import results as R
+from ptpcert.fuzz import Campaign, CoSim, Finding, Generator
+from ptpcert.model import codec
+from ptpcert.profile import reference_profile
+from ptpcert.runner import RunOptions, Runner, realtime_tolerance
+from ptpcert.scenario import expand, timer_env
+from ptpcert.transport import make_factory
+
+
+def _profiles():
+    return [reference_profile(procedure="3964R", priority="low"), reference_profile(procedure="3964", priority="high")]
+
+
+def _examples(prof, n=120):
+    """``n`` generated examples (co-simulations) for ``prof``."""
+    gen = Generator(prof)
+    out = []
+
+    @settings(max_examples=n, deadline=None, database=None, phases=[Phase.generate])
+    @given(st.data())
+    def draw(data):
+        out.append(gen(data))
+
+    draw()
+    return out
+
+
+@pytest.fixture(scope="module", params=[0, 1], ids=["3964R-low", "3964-high"])
+def drawn(request):
+    prof = _profiles()[request.param]
+    return prof, _examples(prof)
+
+
+def test_exported_vectors_have_no_negative_offsets(drawn):
+    prof, sims = drawn
+    seen_mark = 0
+    for sim in sims:
+        v = sim.vector("FUZZ.T", "t", "")
+        env = timer_env(v)
+        for i, s in enumerate(v.steps):
+            for key in ("at", "gap", "duration", "after", "within", "max_gap"):
+                value = getattr(s, key).eval(env)
+                assert value >= 0.0, (i, key, getattr(s, key).text, v.steps)
+            seen_mark += s.since == "mark"
+            if s.since == "mark":   # measured from a marked step before it
+                assert any(p.mark for p in v.steps[:i]), v.steps
+    assert sims
+
+
+def test_partner_waits_for_the_iuts_replies_before_its_next_stimulus(drawn):
+    """Run every example against the model: each tester byte that is not a deliberate
+    violation starts only after every IUT byte begun before it has been received."""
+    prof, sims = drawn
+    runner = Runner(make_factory("sim:", prof), prof, RunOptions(check_status=False))
+    char = prof.params.char_time
+    checked = 0
+    for sim in sims:
+        v = sim.vector("FUZZ.T", "t", "")
+        assert len(expand(v)) == len(v.steps)
+        res = runner.run_case(v)
+        assert res.verdict == R.PASS, res.message
+        events = R.wire_events(res.transcript)
+        iut = [t for t, d, kind, _, _ in events if d == "iut"]
+        for t, d, kind, _, step in events:
+            if d != "tester" or kind == "break" or step in sim.violations:
+                continue
+            start = t - char
+            begun = [u for u in iut if u - char < start - 1e-9]
+            assert all(u <= start + 1e-6 for u in begun), (step, v.steps[step], t, begun)
+            checked += 1
+    assert checked > 100
+
+
+def test_no_stimulus_within_the_runners_tolerance_of_a_timer_edge(drawn):
+    prof, sims = drawn
+    tol = realtime_tolerance(prof.procedure, prof.params)
+    p = prof.params
+    before = tol.stimulus + tol.early + 2 * p.char_time
+    after = tol.late(max(p.cdt, p.adt)) + 2 * p.char_time
+    n = 0
+    for sim in sims:
+        assert sim.edge_before >= before and sim.edge_after >= after
+        for arrival, edges in sim.stimuli:
+            for e in edges:
+                assert not (arrival - after < e < arrival + before), (arrival, e)
+                n += 1
+    assert n > 50
+
+
+def test_the_margin_follows_the_runners_tolerance():
+    p = reference_profile().params
+    tight = replace(realtime_tolerance(reference_profile().procedure, p), late_abs=0.001, late_rel=0.0)
+    loose = replace(tight, late_abs=0.300)
+    assert CoSim(p, True, tolerance=loose).edge_after > CoSim(p, True, tolerance=tight).edge_after + 0.29
+
+
+def _wrong_bcc_vector(prof):
+    """STX, DLE, a block whose BCC is wrong: a conforming receiver refuses it with NAK."""
+    sim = CoSim(prof.params, prof.echo)
+    sim.send(b"\x02", note="STX")
+    sim.run_until_output(1)
+    body = codec.body(b"ABC", prof.params.procedure)
+    sim.send(body[:-1] + bytes([body[-1] ^ 0x55]), note="block (wrong-bcc)")
+    sim.run_until_output(1)
+    return sim.vector("FUZZ.WRONGBCC", "t", "a block with a wrong BCC is refused")
+
+
+def test_a_finding_stands_only_if_its_exported_vector_fails_on_replay():
+    prof = reference_profile()
+    v = _wrong_bcc_vector(prof)
+    broken = Runner(make_factory("sim:?mutant=bcc-not-checked", prof), prof, RunOptions(check_status=False))
+    res = broken.run_case(v)
+    assert res.verdict == R.FAIL
+    finding = Finding(v, res, "rule", "")
+    # against the variant that does not check the BCC the exported vector fails again
+    assert Campaign(prof, broken, 1.0, 1).reproduces(finding)
+    # against a conforming IUT it passes on replay: the finding does not stand
+    clean = Runner(make_factory("sim:", prof), prof, RunOptions(check_status=False))
+    assert not Campaign(prof, clean, 1.0, 1).reproduces(Finding(v, res, "rule", ""))
