@@ -63,6 +63,8 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
     from junit_xml import TestCase, TestSuite, to_xml_report_string
 
     cases = []
+    group_of = R.root_cause_of(run)
+    n_groups = len(run.deviations())
     for c in run.cases:
         name = f"{c.id} [{c.reference}]"
         out = [f"rule: {c.rule}", f"verdict: {c.verdict}",
@@ -80,8 +82,12 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
         detail = failure_text(c) + "\n\ntranscript (tail):\n" + transcript_text(c)
         if link:
             detail += f"\n\nsequence diagram: {link}"
+        if c.id in group_of:
+            g = run.deviations()[group_of[c.id] - 1]
+            detail = f"deviation {group_of[c.id]} of {n_groups}: {g['description']}\n\n" + detail
         if kind == "failure":
-            tc.add_failure_info(message=f"{c.verdict}: {c.message}"[:500], output=detail, failure_type=c.verdict)
+            tag = f"[deviation {group_of[c.id]} of {n_groups}] " if c.id in group_of else ""
+            tc.add_failure_info(message=f"{tag}{c.verdict}: {c.message}"[:500], output=detail, failure_type=c.verdict)
         elif kind == "error":
             tc.add_error_info(message=c.message[:500], output=detail, error_type="harness")
         elif kind == "skipped":
@@ -101,8 +107,27 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
     for k, v in run.profile.items():
         if k != "expected_failures":
             props[f"profile.{k}"] = str(v)
-    suite = TestSuite(f"ptpcert {run.procedure or '3964/3964R'} conformance", cases, timestamp=run.started, properties=props)
+    for i, g in enumerate(run.deviations(), 1):
+        props[f"deviation.{i}"] = g["description"]
+    dev = "\n".join(deviation_lines(run)).strip()
+    suite = TestSuite(f"ptpcert {run.procedure or '3964/3964R'} conformance", cases, timestamp=run.started,
+                      properties=props, stdout=dev or None)
     R.write_atomic(path, to_xml_report_string([suite], prettyprint=True))
+
+
+def deviation_lines(run: R.RunResult, indent: str = "  ") -> list[str]:
+    """The distinct deviations (failures grouped by root cause), largest first, each with
+    the number of cases it explains and their ids; nothing when no case failed."""
+    groups = run.deviations()
+    if not groups:
+        return []
+    lines = ["", f"distinct deviations ({len(groups)}; failed cases grouped by their first divergence):"]
+    for i, g in enumerate(groups, 1):
+        lines.append(f"{indent}{i}. {g['description']}")
+        ids = list(g.get("cases", []))
+        shown = ", ".join(ids[:8]) + (f", and {len(ids) - 8} more" if len(ids) > 8 else "")
+        lines.append(f"{indent}   {shown}")
+    return lines
 
 
 def progress_line(i: int, n: int, c: R.CaseResult) -> str:
@@ -121,11 +146,14 @@ def summary(run: R.RunResult) -> str:
             lines.append(f"  {v:<13}{counts[v]:>6}")
     lines.append(f"  {'total':<13}{len(run.cases):>6}")
     bad = [c for c in run.cases if c.verdict in (R.FAIL, R.XPASS, R.ERROR)]
+    lines += deviation_lines(run)
+    group_of = R.root_cause_of(run)
     if bad:
         lines.append("")
         lines.append("not passed:")
         for c in bad:
-            lines.append(f"  {c.verdict:<6} {c.id}  [{c.reference}]")
+            tag = f"  (deviation {group_of[c.id]})" if c.id in group_of else ""
+            lines.append(f"  {c.verdict:<6} {c.id}  [{c.reference}]{tag}")
             lines.append(f"         {c.message[:200]}")
             if c.divergence is not None:
                 d = c.divergence
