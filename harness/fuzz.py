@@ -663,6 +663,9 @@ class Campaign:
     informational: int = 0
     #: findings dropped because their exported vector, replayed, did not fail
     not_reproduced: int = 0
+    #: failing examples not judged: the tester's deliberate interruption of the IUT's block
+    #: may have reached the IUT only after the block (the harness was late), see late_violation
+    void: int = 0
     findings: list[Finding] = field(default_factory=list)
     started: float = 0.0
     #: examples whose exchange lasts longer are skipped (None: 2 s + 40 x the longest timer,
@@ -728,6 +731,9 @@ class Campaign:
                 res2 = res if getattr(campaign.runner.factory, "virtual", False) else campaign._run_vector(v)
                 if res2.verdict != R.FAIL:
                     return
+                if late_violation(v, res2, getattr(sim, "violations", ()), campaign.profile.params.char_time):
+                    campaign.void += 1     # the IUT may have seen the interruption after its block
+                    return
                 alt = campaign._alternative(v, res2)
                 if alt:
                     campaign.informational += 1
@@ -779,7 +785,7 @@ class Campaign:
             if self.progress:
                 self.progress(f"[{time.monotonic() - self.started:6.1f} s] examples {self.examples}, "
                               f"findings {len(self.findings)}, explained by another reading {self.informational}, "
-                              f"not reproduced {self.not_reproduced}")
+                              f"not reproduced {self.not_reproduced}, void (interruption late) {self.void}")
         return self.findings
 
     def reproduces(self, finding: Finding) -> bool:
@@ -828,6 +834,39 @@ class Campaign:
             elif d is not None and d.step == res.divergence.step and d.observed == res.divergence.observed:
                 return name
         return None
+
+def late_violation(v: Vector, res: R.CaseResult, violations, char: float) -> bool:
+    """Whether a failing example hinges on a deliberate violation that the IUT may have seen
+    only after its block had ended: the IUT sent the whole rest of the block it was meant to
+    stop (the partial expectation after the interruption was received to its end), and the
+    tester's records cannot prove that the interruption reached the IUT while the block was
+    still on the line (a paced block cannot end before the tester's last byte before it plus
+    one character time per byte). Then the oracle cannot judge what the IUT saw (the harness
+    read the IUT's bytes late and interrupted late): the example is void, not a finding."""
+    if not violations or res.divergence is None:
+        return False
+    steps = v.steps
+    events = R.wire_events(res.transcript)
+    for i in sorted(violations):
+        if i >= res.divergence.step or i + 1 >= len(steps) or i < 1:
+            continue
+        rest, before = steps[i + 1], steps[i - 1]
+        if not (rest.kind == "expect" and rest.partial and before.kind == "expect"):
+            continue
+        got = sum(1 for _, d, _, _, k in events if d == "iut" and k == i + 1)
+        if got < len(rest.data):
+            continue                       # the IUT stopped: it saw the interruption in its block
+        sent = [t for t, d, _, _, k in events if d == "tester" and k == i]
+        first_iut = [t for t, d, _, _, k in events if d == "iut" and k == i - 1]
+        if not sent or not first_iut:
+            return True
+        released = [t for t, d, _, _, k in events if d == "tester" and t <= first_iut[0] and k < i - 1]
+        start = released[-1] if released else 0.0
+        end_at_least = start + (len(before.data) + len(rest.data)) * char
+        if sent[0] + 2 * char > end_at_least:
+            return True
+    return False
+
 
 def _divergent_rule(v: Vector, res: R.CaseResult) -> tuple[str, str]:
     from .scenario import expand

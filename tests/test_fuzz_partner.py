@@ -129,3 +129,51 @@ def test_a_finding_stands_only_if_its_exported_vector_fails_on_replay():
     # against a conforming IUT it passes on replay: the finding does not stand
     clean = Runner(make_factory("sim:", prof), prof, RunOptions(check_status=False))
     assert not Campaign(prof, clean, 1.0, 1).reproduces(Finding(v, res, "rule", ""))
+
+
+def _interrupted(viol_at: float, stopped: bool):
+    """A vector in which the tester interrupts the IUT's 40-byte block after 10 bytes with
+    another character, and a failing result whose transcript has the interruption go out
+    ``viol_at`` s after the tester's DLE; the IUT sends the whole rest unless ``stopped``."""
+    from ptpcert.scenario import Expr, Step, Vector
+
+    prof = reference_profile()
+    char = prof.params.char_time
+    block = bytes(range(0x20, 0x20 + 37)) + b"\x10\x03\x42"
+    steps = (Step("send", b"\x10", note="DLE"), Step("expect", block[:10], within=Expr("CDT"), mark=True),
+             Step("send", b"\x42", note="another character"),
+             Step("expect", block[10:], partial=True, since="mark", within=Expr("4*CHAR")),
+             Step("expect", b"\x15", within=Expr("CDT + 2*CHAR")))
+    v = _wrong_bcc_vector(prof)
+    v = replace(v, steps=steps)
+    log = [{"t": 0.010, "dir": "tester", "kind": "byte", "byte": 0x10, "step": 0}]
+    log += [{"t": 0.010 + (k + 1) * char, "dir": "iut", "kind": "byte", "byte": b, "step": 1}
+            for k, b in enumerate(block[:10])]
+    log.append({"t": 0.010 + viol_at, "dir": "tester", "kind": "byte", "byte": 0x42, "step": 2})
+    rest = block[10:12] if stopped else block[10:]
+    log += [{"t": 0.010 + (k + 11) * char, "dir": "iut", "kind": "byte", "byte": b, "step": 3}
+            for k, b in enumerate(rest)]
+    res = R.CaseResult("X", "t", "r", "r", "g", "both", verdict=R.FAIL, message="m",
+                       transcript=R.pack_transcript(log),
+                       divergence=R.Divergence(4, 0.2, "15", "15 came 1.9 ms after the reference, too early"))
+    return v, res, char
+
+
+def test_an_interruption_that_may_have_come_after_the_block_voids_the_example():
+    from ptpcert.fuzz import late_violation
+
+    # sent after 11 characters, the IUT kept sending all 40: it ignored the interruption
+    v, res, char = _interrupted(11 * _char(), stopped=False)
+    assert not late_violation(v, res, {2}, char)
+    # the IUT stopped: it saw the interruption inside its block
+    v, res, char = _interrupted(11 * _char(), stopped=True)
+    assert not late_violation(v, res, {2}, char)
+    # the harness interrupted only when the block may already have ended (it read late)
+    v, res, char = _interrupted(40 * _char(), stopped=False)
+    assert late_violation(v, res, {2}, char)
+    # no deliberate violation in the example: nothing to void
+    assert not late_violation(v, res, set(), char)
+
+
+def _char():
+    return reference_profile().params.char_time
