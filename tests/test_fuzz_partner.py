@@ -177,3 +177,15 @@ def test_an_interruption_that_may_have_come_after_the_block_voids_the_example():
 
 def _char():
     return reference_profile().params.char_time
+
+
+def test_an_iut_that_stops_its_block_only_late_is_no_finding():
+    from ptpcert.fuzz import late_violation
+
+    v, res, char = _interrupted(11 * _char(), stopped=True)
+    res.divergence = R.Divergence(3, 0.08, "the IUT to stop sending within 1.146ms + 4*CHAR",
+                                  "it still sent 2E 64.6 ms after the reference")
+    assert late_violation(v, res, {2}, char)
+    # one that never stops (it sent the whole rest at once after the interruption) is judged
+    v, res, char = _interrupted(11 * _char(), stopped=False)
+    assert not late_violation(v, res, {2}, char)
