@@ -63,8 +63,9 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
     from junit_xml import TestCase, TestSuite, to_xml_report_string
 
     cases = []
-    group_of = R.root_cause_of(run)
-    n_groups = len(run.deviations())
+    devs = run.deviations()          # computed once: a run in progress keeps none stored
+    group_of = {cid: i + 1 for i, g in enumerate(devs) for cid in g.get("cases", [])}
+    n_groups = len(devs)
     for c in run.cases:
         name = f"{c.id} [{c.reference}]"
         out = [f"rule: {c.rule}", f"verdict: {c.verdict}",
@@ -83,7 +84,7 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
         if link:
             detail += f"\n\nsequence diagram: {link}"
         if c.id in group_of:
-            g = run.deviations()[group_of[c.id] - 1]
+            g = devs[group_of[c.id] - 1]
             detail = f"deviation {group_of[c.id]} of {n_groups}: {g['description']}\n\n" + detail
         if kind == "failure":
             tag = f"[deviation {group_of[c.id]} of {n_groups}] " if c.id in group_of else ""
@@ -107,18 +108,18 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
     for k, v in run.profile.items():
         if k != "expected_failures":
             props[f"profile.{k}"] = str(v)
-    for i, g in enumerate(run.deviations(), 1):
+    for i, g in enumerate(devs, 1):
         props[f"deviation.{i}"] = g["description"]
-    dev = "\n".join(deviation_lines(run)).strip()
+    dev = "\n".join(deviation_lines(run, groups=devs)).strip()
     suite = TestSuite(f"ptpcert {run.procedure or '3964/3964R'} conformance", cases, timestamp=run.started,
                       properties=props, stdout=dev or None)
     R.write_atomic(path, to_xml_report_string([suite], prettyprint=True))
 
 
-def deviation_lines(run: R.RunResult, indent: str = "  ") -> list[str]:
+def deviation_lines(run: R.RunResult, indent: str = "  ", groups: list | None = None) -> list[str]:
     """The distinct deviations (failures grouped by root cause), largest first, each with
     the number of cases it explains and their ids; nothing when no case failed."""
-    groups = run.deviations()
+    groups = run.deviations() if groups is None else groups
     if not groups:
         return []
     lines = ["", f"distinct deviations ({len(groups)}; failed cases grouped by their first divergence):"]
@@ -146,8 +147,9 @@ def summary(run: R.RunResult) -> str:
             lines.append(f"  {v:<13}{counts[v]:>6}")
     lines.append(f"  {'total':<13}{len(run.cases):>6}")
     bad = [c for c in run.cases if c.verdict in (R.FAIL, R.XPASS, R.ERROR)]
-    lines += deviation_lines(run)
-    group_of = R.root_cause_of(run)
+    devs = run.deviations()
+    lines += deviation_lines(run, groups=devs)
+    group_of = {cid: i + 1 for i, g in enumerate(devs) for cid in g.get("cases", [])}
     if bad:
         lines.append("")
         lines.append("not passed:")
