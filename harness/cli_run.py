@@ -453,7 +453,8 @@ def cmd_fuzz(args) -> int:
             paths, interrupted = [], True
     elapsed = time.monotonic() - camp.started if camp.started else 0.0
     print(f"\n{camp.examples} examples in {elapsed:.1f} s ({camp.examples / max(elapsed, 1e-9):.1f}/s), "
-          f"{len(camp.findings)} finding(s), {camp.informational} divergence(s) explained by another reading"
+          f"{len(camp.findings)} finding(s), {camp.informational} divergence(s) explained by another reading, "
+          f"{camp.not_reproduced} not reproduced, {camp.void} void (interruption reached the IUT late)"
           + (", INTERRUPTED" if interrupted else ""))
     for p in paths:
         print(f"  written: {p}")

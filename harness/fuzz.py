@@ -11,10 +11,18 @@ finding when a model with another defensible reading of the manual (docs/reading
 have done what the IUT did. Hypothesis shrinks every finding to a minimal transcript,
 which is written out as a vector (``vectors/regressions/``).
 
-Timing stimuli keep a margin from every limit that a real process can honour: "just
-under" a timer is 70 % of it, "just over" 150 %, and no stimulus lands within 15 % of the
-shortest timer (plus two characters) of one of the IUT's deadlines; the exact edges are
-fuzzed in virtual time by level 1 (tests/test_fuzz_model.py).
+The tester is a reactive partner: before each stimulus it waits until what the IUT has
+begun to send (the replies the protocol requires) is complete and written into the vector
+as an expectation, so that the runner, too, sends it only after it has seen them; only a
+deliberate violation (interrupting the IUT's block) goes out while the IUT is sending, and
+the runner then judges what the IUT actually saw. Timing stimuli keep a margin from every
+limit that a real process can honour: "just under" a timer is 70 % of it, "just over" 150 %,
+and no stimulus lands closer to one of the IUT's deadlines than the runner's real-time
+tolerance can tell apart (before the edge: how late the tester's byte may go out plus two
+characters; after it: how late the IUT's timer may act and still pass); the exact edges are
+fuzzed in virtual time by level 1 (tests/test_fuzz_model.py). Every time in a generated
+vector counts forwards: output that began while the tester was still sending is measured
+from the step before that stimulus (``since = "mark"``), never with a negative offset.
 """
 
 from __future__ import annotations
@@ -34,7 +42,7 @@ from .model import events as ev
 from .model import table as T
 from .model.readings import READINGS, Readings
 from .profile import Profile
-from .runner import RunOptions, Runner
+from .runner import RunOptions, Runner, Tolerance, realtime_tolerance
 from .scenario import Expected, Expr, StatusSpec, Step, Vector, dump_vector
 
 # ------------------------------------------------------------------ settings profiles
@@ -83,14 +91,33 @@ class _Out:
 class CoSim:
     """A model IUT in virtual time and the vector being written while it runs."""
 
-    def __init__(self, params: Params3964, echo: bool, readings: Readings = READINGS):
+    def __init__(self, params: Params3964, echo: bool, readings: Readings = READINGS,
+                 tolerance: Tolerance | None = None):
         self.p = params
         self.char = params.char_time
         self.st = Station3964(params, readings, name="iut", explain=True)
         self.echo = echo
         self.host = Host(self.st, "echo" if echo else "none")
-        # how far a stimulus keeps from the IUT's deadlines (see _start)
-        self.edge_margin = 0.15 * min(params.cdt, params.adt) + 2 * params.char_time
+        # how far a stimulus keeps from the IUT's deadlines (see _start): before an edge, as
+        # far as the tester's byte may go out late plus two characters; after it, as far as
+        # the runner lets the IUT's timer act late (for the longer of CDT and ADT)
+        if tolerance is None:
+            from .procedures.p3964 import P3964
+            tolerance = realtime_tolerance(P3964(), params)
+        self.tol = tolerance
+        floor = 0.15 * min(params.cdt, params.adt) + 2 * params.char_time
+        self.edge_before = max(floor, tolerance.stimulus + tolerance.early + 2 * params.char_time)
+        self.edge_after = max(floor, tolerance.late(max(params.cdt, params.adt)) + 2 * params.char_time)
+        self.edge_margin = max(self.edge_before, self.edge_after)
+        #: steps that are deliberate violations (sent while the IUT was sending)
+        self.violations: set[int] = set()
+        #: (arrival of a stimulus's first character, the IUT's deadlines at that moment)
+        self.stimuli: list[tuple[float, tuple[float, ...]]] = []
+        # the reference point before the last stimulus and the step that set it (-1: the
+        # start of the case), for output that began while the stimulus was going out
+        self.mark_ref = 0.0
+        self.mark_idx = -1
+        self.stim_end = 0.0
         self.st.power_on(0.0)
         self.st.pop_output()
         self.host.drain()
@@ -161,44 +188,78 @@ class CoSim:
                 self.advance(d)
 
     # -- the tester's side --------------------------------------------------------
-    def _start(self, at: float) -> tuple[float, float]:
+    def _start(self, at: float, violation: bool = False) -> tuple[float, float]:
         """When a stimulus ``at`` after the reference starts: never before the model's
-        present (the co-simulation may have run ahead looking for output), and never so close
-        to one of the IUT's deadlines (a timer, the end of its transmission) that a real
-        process could see the two in either order: then the deadline runs out first and the
-        stimulus follows what it caused. Returns the start and the delay the vector states."""
-        while True:
+        present (the co-simulation may have run ahead looking for output); unless it is a
+        deliberate ``violation``, never before what the IUT has begun to send is complete
+        (the partner reacts to the replies the protocol requires: they become expectations
+        first, so the runner waits for them too); and never so close to one of the IUT's
+        deadlines (a timer, the end of its transmission) that a real process could see the
+        two in either order: then the deadline runs out first and the stimulus follows what
+        it caused. Returns the start and the delay the vector states."""
+        for _ in range(10_000):
+            if not violation:
+                pending = max([o.t for o in self.outs], default=self.t)
+                if self.st.transmitting or self.st.busy_until > self.t:
+                    pending = max(pending, self.st.busy_until)
+                if pending > self.t + 1e-12:
+                    self.advance(pending)
+                    self._collect("reply")
+                    continue
             self.flush_expectations()
             start = max(self.ref + at, self.t)
             arrival = start + self.char
             timer, done = self.st.timer, self.st.block_done_at
-            near = [d for d in (timer[1] if timer else None, done)
-                    if d is not None and arrival - self.edge_margin < d < arrival + self.edge_margin]
+            edges = tuple(d for d in (timer[1] if timer else None, done) if d is not None)
+            near = [d for d in edges if arrival - self.edge_after < d < arrival + self.edge_before]
             if not near:
+                self.stimuli.append((arrival, edges))
+                self.mark_ref, self.mark_idx = self.ref, len(self.steps) - 1
                 return start, start - self.ref
-            self.advance(max(near) + self.edge_margin)
+            self.advance(max(near) + self.edge_after)
+            self._collect("reply")
             at = 0.0
+        raise RuntimeError("the co-simulated IUT never stops sending")
 
-    def send(self, data: bytes, at: float = 0.0, gap: float = 0.0, note: str = "", kind: str = "send") -> None:
-        start, at = self._start(at)
+    def _stimulus(self, step: Step, violation: bool) -> None:
+        if violation:
+            self.violations.add(len(self.steps))
+        self.steps.append(step)
+        self.stim_end = self.ref
+
+    def send(self, data: bytes, at: float = 0.0, gap: float = 0.0, note: str = "", kind: str = "send",
+             violation: bool = False) -> None:
+        start, at = self._start(at, violation)
         for k, b in enumerate(data):
             arrive = start + k * (self.char + gap) + self.char
             self._input(arrive, "invalid" if kind == "send_error" else "byte", b)
         self.ref = self.sent_end = arrive
-        self.steps.append(Step(kind, bytes(data), at=_ms(at), gap=_ms(gap), note=note))
+        self._stimulus(Step(kind, bytes(data), at=_ms(at), gap=_ms(gap), note=note), violation)
 
-    def brk(self, duration: float, at: float = 0.0) -> None:
-        t, at = self._start(at)
+    def brk(self, duration: float, at: float = 0.0, violation: bool = False) -> None:
+        t, at = self._start(at, violation)
         self._input(t, "break")
         self.advance(t + duration)
         self.ref = self.sent_end = t + duration
-        self.steps.append(Step("break", duration=_ms(duration), at=_ms(at), note="BREAK"))
+        self._stimulus(Step("break", duration=_ms(duration), at=_ms(at), note="BREAK"), violation)
 
     def wait(self, d: float) -> None:
         end, d = self._start(d)
         self.advance(end)
         self.ref = end
         self.steps.append(Step("wait", duration=_ms(d)))
+
+    def since_mark(self) -> tuple[float, int]:
+        """The reference point before the last stimulus, marked in the vector (a zero wait
+        at the start when the stimulus was the first step): what output that began while
+        the stimulus was going out is measured from."""
+        if self.mark_idx < 0:
+            self.steps.insert(0, Step("wait", duration=_ms(0.0), mark=True))
+            self.violations = {i + 1 for i in self.violations}
+            self.mark_idx = 0
+        elif not self.steps[self.mark_idx].mark:
+            self.steps[self.mark_idx] = replace(self.steps[self.mark_idx], mark=True)
+        return self.mark_ref, self.mark_idx
 
     def run_until_output(self, n: int = 1, limit: float | None = None) -> list[_Out]:
         """Let the model run until it has produced ``n`` more bytes (or ``limit``)."""
@@ -215,7 +276,9 @@ class CoSim:
     def flush_expectations(self, interrupted_rest: bytes | None = None) -> None:
         """Turn the model's output so far into expect steps, relative to the runner's
         reference point; ``interrupted_rest``: the block the IUT was sending when the tester
-        interrupted it (what may still come of it is a partial expectation)."""
+        interrupted it (what may still come of it is a partial expectation). Output that
+        began before the reference (while the tester's last stimulus was going out) is
+        measured from the mark before that stimulus, so no offset is negative."""
         # only characters that have arrived by now; one still on the line stays for later
         outs = [o for o in self.outs if o.t <= self.t + 1e-12]
         self.outs = [o for o in self.outs if o.t > self.t + 1e-12]
@@ -230,20 +293,31 @@ class CoSim:
             d = group[0].t - self.ref
             data = bytes(o.byte for o in group)
             note = _note(group[0].rule, sorted(set(c for o in group for c in o.codes)))
-            if group[0].cause == "timer" or d > 3 * char + 1e-9:
-                after, within = _ms(d - 2 * char), _ms(d + 2 * char)
+            since = "previous"
+            timed = group[0].cause == "timer" or d > 3 * char + 1e-9
+            reply_within = Expr("CDT") if group[0].rule == BLOCK_RULE else Expr("ADT")
+            if d < -1e-9:
+                # it began while the tester's stimulus was still going out (a reply to a
+                # BREAK's start, a NAK in the middle of an over-long block)
+                mark_ref, _ = self.since_mark()
+                dm, stim = group[0].t - mark_ref, max(self.ref - mark_ref, 0.0)
+                since = "mark"
+                after = _ms(max(0.0, dm - 2 * char))
+                within = _ms(dm + 2 * char) if timed else Expr(f"{_ms(stim).text} + {reply_within.text}")
+            elif timed:
+                after, within = _ms(max(0.0, d - 2 * char)), _ms(d + 2 * char)
             else:
                 # a reply: any time up to the partner's timer (CDT for the first character of
-                # a block after the partner's DLE); it may have gone out while the tester was
-                # still holding a BREAK, i.e. before the reference point
-                within = Expr("CDT") if group[0].rule == BLOCK_RULE else Expr("ADT")
-                after = _ms(min(0.0, d - 2 * char))
-            self.steps.append(Step("expect", data, after=after, within=within, note=note))
+                # a block after the partner's DLE)
+                after, within = _ms(0.0), reply_within
+            self.steps.append(Step("expect", data, after=after, within=within, note=note, since=since))
             self.ref = group[-1].t
             i = j
         if interrupted_rest:
-            self.steps.append(Step("expect", interrupted_rest, partial=True, within=Expr("4*CHAR"),
-                                   after=Expr("-4*CHAR"), note="the IUT stops sending its block"))
+            mark_ref, _ = self.since_mark()
+            self.steps.append(Step("expect", interrupted_rest, partial=True, since="mark", after=_ms(0.0),
+                                   within=Expr(f"{_ms(max(self.ref - mark_ref, 0.0)).text} + 4*CHAR"),
+                                   note="the IUT stops sending its block"))
 
     # -- the result ---------------------------------------------------------------
     def vector(self, vid: str, title: str, rule: str) -> Vector:
@@ -483,14 +557,21 @@ class Generator:
             return
         sim.advance(start + k * p.char_time + 1e-9)   # the k-th byte of the block is complete
         sim.flush_expectations()
+        # a deliberate violation: it goes out while the IUT is still sending its block
         if how == "break":
-            sim.brk(20 * p.char_time)
+            sim.brk(20 * p.char_time, violation=True)
         else:
-            sim.send(b"\x15" if how == "nak" else b"\x42", note="NAK" if how == "nak" else "another character")
+            sim.send(b"\x15" if how == "nak" else b"\x42", note="NAK" if how == "nak" else "another character",
+                     violation=True)
+        stim = sim.ref
         sim.advance(max(sim.t, st_.popped_until, st_.busy_until if st_.state is not T.SEND_DATA else sim.t))
         rest_sent = [o for o in sim.outs if o.rule == BLOCK_RULE]
         sim.outs = [o for o in sim.outs if o.rule != BLOCK_RULE]
-        sim.steps.append(Step("expect", body[k:], partial=True, after=Expr("-24*CHAR"), within=Expr("4*CHAR"),
+        # what may still come of the block is measured from its k-th byte (the mark before
+        # the interruption): it may be on its way before the interruption has gone out
+        mark_ref, _ = sim.since_mark()
+        sim.steps.append(Step("expect", body[k:], partial=True, since="mark", after=_ms(0.0),
+                              within=Expr(f"{_ms(max(stim - mark_ref, 0.0)).text} + 4*CHAR"),
                               note="§7.2 items 3-4, §7.6: the IUT stops sending its block"))
         if rest_sent:
             sim.ref = max(sim.ref, rest_sent[-1].t)
@@ -580,6 +661,11 @@ class Campaign:
     max_actions: int = 6
     examples: int = 0
     informational: int = 0
+    #: findings dropped because their exported vector, replayed, did not fail
+    not_reproduced: int = 0
+    #: failing examples not judged: the tester's deliberate interruption of the IUT's block
+    #: may have reached the IUT only after the block (the harness was late), see late_violation
+    void: int = 0
     findings: list[Finding] = field(default_factory=list)
     started: float = 0.0
     #: examples whose exchange lasts longer are skipped (None: 2 s + 40 x the longest timer,
@@ -642,8 +728,13 @@ class Campaign:
                 if res.verdict != R.FAIL:
                     return
                 # confirm: real time can glitch once (virtual time cannot)
-                res2 = res if getattr(campaign.runner.factory, "virtual", False) else campaign._run_vector(v)
+                virtual = getattr(campaign.runner.factory, "virtual", False)
+                res2 = res if virtual else campaign._run_vector(v)
                 if res2.verdict != R.FAIL:
+                    return
+                # in real time, what the IUT saw of a deliberate interruption is judged first
+                if not virtual and late_violation(v, res2, interruptions(v), campaign.profile.params.char_time):
+                    campaign.void += 1     # the IUT may have seen the interruption after its block
                     return
                 alt = campaign._alternative(v, res2)
                 if alt:
@@ -676,21 +767,46 @@ class Campaign:
                 finding = found.finding
                 key = finding.rule + "|" + (finding.result.divergence.expected if finding.result.divergence else "")
                 if key not in seen_rules:
-                    seen_rules.add(key)
                     rid = hashlib.sha256(dump_vector(finding.vector).encode()).hexdigest()[:8].upper()
                     vec = replace(finding.vector, id=f"FUZZ.{rid}", title=f"Fuzz finding: {finding.rule}",
                                   rule=f"{finding.rule} (found by ptpcert fuzz, seed {self.seed + rnd})")
                     finding.vector = vec
-                    self.findings.append(finding)
-                    if self.progress:
-                        self.progress(finding.describe())
+                    if self.reproduces(finding):
+                        seen_rules.add(key)
+                        self.findings.append(finding)
+                        if self.progress:
+                            self.progress(finding.describe())
+                    else:
+                        self.not_reproduced += 1
+                        if self.progress:
+                            self.progress(f"not reproduced (dropped): {finding.vector.id}: {finding.rule}; "
+                                          "its exported vector passed on replay")
             finally:
                 self._release()   # between rounds no IUT waits: each is started for its example
             rnd += 1
             if self.progress:
                 self.progress(f"[{time.monotonic() - self.started:6.1f} s] examples {self.examples}, "
-                              f"findings {len(self.findings)}, explained by another reading {self.informational}")
+                              f"findings {len(self.findings)}, explained by another reading {self.informational}, "
+                              f"not reproduced {self.not_reproduced}, void (interruption late) {self.void}")
         return self.findings
+
+    def reproduces(self, finding: Finding) -> bool:
+        """A finding stands only if the vector as exported (written out as TOML and read
+        back, as ``ptpcert run --vectors`` reads it) fails under the runner on replay; its
+        result then becomes the finding's."""
+        from .scenario import load_vector_text
+        try:
+            v = load_vector_text(dump_vector(finding.vector), f"<{finding.vector.id}>")
+        except ValueError:
+            return False   # a vector that cannot be read back cannot stand as a finding
+        try:
+            res = self._run_vector(v)
+        finally:
+            self._release()
+        if res.verdict != R.FAIL:
+            return False
+        finding.result = res
+        return True
 
     def _alternative(self, v: Vector, res: R.CaseResult) -> str | None:
         """The open point of the manual (docs/readings.md) whose other reading explains the
@@ -720,6 +836,54 @@ class Campaign:
             elif d is not None and d.step == res.divergence.step and d.observed == res.divergence.observed:
                 return name
         return None
+
+def interruptions(v: Vector) -> set[int]:
+    """The steps of ``v`` that interrupt the IUT's block: a stimulus followed by the partial
+    expectation of what may still come of the block."""
+    return {i for i in range(len(v.steps) - 1)
+            if v.steps[i].kind in ("send", "send_error", "break") and v.steps[i + 1].kind == "expect"
+            and v.steps[i + 1].partial}
+
+
+def late_violation(v: Vector, res: R.CaseResult, violations, char: float) -> bool:
+    """Whether a failing example hinges on a deliberate violation that the IUT may have seen
+    only after its block had ended: the IUT sent the whole rest of the block it was meant to
+    stop (the partial expectation after the interruption was received to its end), and the
+    tester's records cannot prove that the interruption reached the IUT while the block was
+    still on the line (a paced block cannot end before the tester's last byte before it plus
+    one character time per byte). Then the oracle cannot judge what the IUT saw (the harness
+    read the IUT's bytes late and interrupted late): the example is void, not a finding.
+    Void too: the IUT stopped inside its block, but later than the window after the
+    interruption allows (how fast it stops is real time, not behaviour)."""
+    if not violations or res.divergence is None:
+        return False
+    steps = v.steps
+    events = R.wire_events(res.transcript)
+    for i in sorted(violations):
+        if i >= res.divergence.step or i + 1 >= len(steps) or i < 1:
+            continue
+        rest, before = steps[i + 1], steps[i - 1]
+        if not (rest.kind == "expect" and rest.partial and before.kind == "expect"):
+            continue
+        after = bytes(b for _, d, kind, b, k in events if d == "iut" and kind == "byte" and k >= i + 1)
+        if after[:len(rest.data)] != rest.data:
+            # the IUT stopped inside its block: it saw the interruption there; if it only
+            # stopped later than the window allows, that is its reaction time on a loaded
+            # machine (the suite's cases judge it), not a finding
+            if res.divergence.step == i + 1:
+                return True
+            continue
+        sent = [t for t, d, _, _, k in events if d == "tester" and k == i]
+        first_iut = [t for t, d, _, _, k in events if d == "iut" and k == i - 1]
+        if not sent or not first_iut:
+            return True
+        released = [t for t, d, _, _, k in events if d == "tester" and t <= first_iut[0] and k < i - 1]
+        start = released[-1] if released else 0.0
+        end_at_least = start + (len(before.data) + len(rest.data)) * char
+        if sent[0] + 2 * char > end_at_least:
+            return True
+    return False
+
 
 def _divergent_rule(v: Vector, res: R.CaseResult) -> tuple[str, str]:
     from .scenario import expand

@@ -783,8 +783,23 @@ def _groups(run: R.RunResult) -> list[str]:
     return ordered + sorted(g for g in present if g not in GROUP_ORDER)
 
 
+def _deviations(run: R.RunResult) -> str:
+    """The distinct deviations (failed cases grouped by root cause), before the cases."""
+    groups = run.deviations()
+    if not groups:
+        return ""
+    items = []
+    for i, g in enumerate(groups, 1):
+        links = ", ".join(f'<a href="#{esc(anchor(cid))}"><code>{esc(cid)}</code></a>' for cid in g.get("cases", []))
+        items.append(f'<li id="deviation-{i}"><b>{esc(g["description"])}</b><br><small>{links}</small></li>')
+    return (f'<section id="deviations"><h2>Distinct deviations ({len(groups)})</h2>'
+            '<p>Failed cases grouped by root cause: cases whose first divergence has the same signature '
+            '(what the tester last sent, what was due, what the IUT sent instead) form one group.</p>'
+            f'<ol>{"".join(items)}</ol></section>')
+
+
 def _summary(run: R.RunResult) -> str:
-    out = ['<section id="summary"><h2>Summary by manual section</h2>']
+    out = [_deviations(run), '<section id="summary"><h2>Summary by manual section</h2>']
     for g in _groups(run):
         cs = [c for c in run.cases if c.group == g]
         counts: dict[str, int] = {}

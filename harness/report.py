@@ -63,6 +63,9 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
     from junit_xml import TestCase, TestSuite, to_xml_report_string
 
     cases = []
+    devs = run.deviations()          # computed once: a run in progress keeps none stored
+    group_of = {cid: i + 1 for i, g in enumerate(devs) for cid in g.get("cases", [])}
+    n_groups = len(devs)
     for c in run.cases:
         name = f"{c.id} [{c.reference}]"
         out = [f"rule: {c.rule}", f"verdict: {c.verdict}",
@@ -80,8 +83,12 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
         detail = failure_text(c) + "\n\ntranscript (tail):\n" + transcript_text(c)
         if link:
             detail += f"\n\nsequence diagram: {link}"
+        if c.id in group_of:
+            g = devs[group_of[c.id] - 1]
+            detail = f"deviation {group_of[c.id]} of {n_groups}: {g['description']}\n\n" + detail
         if kind == "failure":
-            tc.add_failure_info(message=f"{c.verdict}: {c.message}"[:500], output=detail, failure_type=c.verdict)
+            tag = f"[deviation {group_of[c.id]} of {n_groups}] " if c.id in group_of else ""
+            tc.add_failure_info(message=f"{tag}{c.verdict}: {c.message}"[:500], output=detail, failure_type=c.verdict)
         elif kind == "error":
             tc.add_error_info(message=c.message[:500], output=detail, error_type="harness")
         elif kind == "skipped":
@@ -101,7 +108,11 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
     for k, v in run.profile.items():
         if k != "expected_failures":
             props[f"profile.{k}"] = str(v)
-    suite = TestSuite(f"ptpcert {run.procedure or '3964/3964R'} conformance", cases, timestamp=run.started, properties=props)
+    for i, g in enumerate(devs, 1):
+        props[f"deviation.{i}"] = g["description"]
+    dev = "\n".join(deviation_lines(run, groups=devs)).strip()
+    suite = TestSuite(f"ptpcert {run.procedure or '3964/3964R'} conformance", cases, timestamp=run.started,
+                      properties=props, stdout=dev or None)
     xml = to_xml_report_string([suite], prettyprint=True)
     if any(c.device for c in run.cases):
         xml = _with_devices(xml, [c.device for c in run.cases])
@@ -121,6 +132,21 @@ def _with_devices(xml: str, devices: list[str]) -> str:
             tc.insert(0, props)
     ET.indent(root, space="\t")
     return "<?xml version=\"1.0\" ?>\n" + ET.tostring(root, encoding="unicode") + "\n"
+
+
+def deviation_lines(run: R.RunResult, indent: str = "  ", groups: list | None = None) -> list[str]:
+    """The distinct deviations (failures grouped by root cause), largest first, each with
+    the number of cases it explains and their ids; nothing when no case failed."""
+    groups = run.deviations() if groups is None else groups
+    if not groups:
+        return []
+    lines = ["", f"distinct deviations ({len(groups)}; failed cases grouped by their first divergence):"]
+    for i, g in enumerate(groups, 1):
+        lines.append(f"{indent}{i}. {g['description']}")
+        ids = list(g.get("cases", []))
+        shown = ", ".join(ids[:8]) + (f", and {len(ids) - 8} more" if len(ids) > 8 else "")
+        lines.append(f"{indent}   {shown}")
+    return lines
 
 
 def progress_line(i: int, n: int, c: R.CaseResult) -> str:
@@ -147,11 +173,15 @@ def summary(run: R.RunResult) -> str:
             lines.append(f"  {v:<13}{counts[v]:>6}")
     lines.append(f"  {'total':<13}{len(run.cases):>6}")
     bad = [c for c in run.cases if c.verdict in (R.FAIL, R.XPASS, R.ERROR)]
+    devs = run.deviations()
+    lines += deviation_lines(run, groups=devs)
+    group_of = {cid: i + 1 for i, g in enumerate(devs) for cid in g.get("cases", [])}
     if bad:
         lines.append("")
         lines.append("not passed:")
         for c in bad:
-            lines.append(f"  {c.verdict:<6} {c.id}  [{c.reference}]")
+            tag = f"  (deviation {group_of[c.id]})" if c.id in group_of else ""
+            lines.append(f"  {c.verdict:<6} {c.id}  [{c.reference}]{tag}")
             lines.append(f"         {c.message[:200]}")
             if c.divergence is not None:
                 d = c.divergence

@@ -7,6 +7,7 @@ import base64
 import json
 import math
 import os
+import re
 import secrets
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
@@ -106,6 +107,14 @@ class RunResult:
     wall_time: float = 0.0
     html_path: str = ""
     schema: str = SCHEMA
+    #: the failures grouped by root cause (see :func:`root_causes`); empty while a run is
+    #: under way (the views then compute them), filled in the JSON so that a re-rendered
+    #: report shows the groups the run found
+    root_causes: list[dict[str, Any]] = field(default_factory=list)
+
+    def deviations(self) -> list[dict[str, Any]]:
+        """The distinct deviations: the stored groups, or those of the cases as they stand."""
+        return self.root_causes or root_causes(self.cases)
 
     def counts(self) -> dict[str, int]:
         out = {v: 0 for v in VERDICTS}
@@ -129,6 +138,7 @@ class RunResult:
     # -- JSON -------------------------------------------------------------------------
     def to_dict(self) -> dict[str, Any]:
         d = asdict(self)
+        d["root_causes"] = self.deviations()
         d["counts"] = self.counts()
         d["verdict"] = self.verdict
         return d
@@ -184,6 +194,136 @@ class RunResult:
             return cls.from_dict(data)
         except ResultsError as exc:
             raise ResultsError(f"{path}: {exc}") from None
+
+
+# ------------------------------------------------------------------ root causes
+#: names of the control characters in the signatures' words
+_STEERING = {0x02: "STX", 0x10: "DLE", 0x15: "NAK"}
+_HEX = re.compile(r"^(?:[0-9A-F]{2}(?:\*\d+)?)(?: [0-9A-F]{2}(?:\*\d+)?)*$")
+
+
+def _bytes_word(data: bytes) -> str:
+    """Up to three bytes in hex; a longer run (a block, whose data differ from case to case)
+    as "a block"."""
+    if not data:
+        return "nothing"
+    if len(data) <= 3:
+        return " ".join(f"{b:02X}" for b in data)
+    return "a block"
+
+
+def _stimulus_word(c: CaseResult, until: float) -> str:
+    """What the tester sent last before ``until`` (case time), as a class that survives other
+    payloads: NAK, STX, DLE (the characters that steer the procedure), BREAK, a corrupted
+    character, a block (more than one byte at once), any other character; "" at the start."""
+    last = None
+    for t, d, kind, value, _ in wire_runs(c.transcript):
+        if t > until + 1e-9:
+            break
+        if d == "tester":
+            last = (kind, value)
+    if last is None:
+        return ""
+    kind, value = last
+    if kind == "break":
+        return "BREAK"
+    if kind == "char_error":
+        return "corrupted character"
+    data = bytes(value)
+    if len(data) == 1:
+        return _STEERING.get(data[0], "character")
+    return "block"
+
+
+def _words(text: str) -> str:
+    """Free text without what changes from run to run: times, counts and positions."""
+    text = re.sub(r"^step \d+: ", "", text)
+    text = re.sub(r" \(reported: .*$", "", text)
+    text = re.sub(r"-?\d+(?:\.\d+)? ?(?:ms|s)\b", "T", text)
+    return re.sub(r"(?<![#\w])\d+(?![#\w])", "N", text).strip()
+
+
+def failure_signature(c: CaseResult) -> tuple[str, str, str]:
+    """The signature of a failed case's first divergence, as (context, expected, observed):
+    what the tester had last sent, what the IUT was expected to send and what it sent
+    instead, in words that survive other payloads and other timings (a block is "a
+    block", a byte position inside a block's data is not kept, times are not kept).
+    Cases with the same signature fail for one root cause."""
+    d = c.divergence
+    if d is None:
+        return "", "", _words(c.message)
+    step = c.steps[d.step] if 0 <= d.step < len(c.steps) else {}
+    raw = str(step.get("data", "")) if step.get("kind") == "expect" else ""
+    try:
+        want = bytes.fromhex(raw) if raw else b""
+    except ValueError:
+        want = b""
+    expected = _bytes_word(want) if want else _words(d.expected)
+    obs = d.observed
+    if d.expected.endswith("block(s) from the IUT"):   # the echo the epilogue waits for
+        intact = re.match(r"^received (\d+) intact block", obs)
+        return "", "its echo of the block", (
+            "sends no intact block" if intact and intact.group(1) == "0" else
+            "sends fewer intact blocks" if intact else _words(obs))
+    m = re.match(r"^received ([0-9A-F]{2})$", obs)
+    n = re.match(r"^([0-9A-F]{2}) came .* too (late|early)$", obs)
+    k = re.match(r"^byte (\d+) is ([0-9A-F]{2}) \(after .*\)$", obs)
+    if m:
+        observed = f"sends {m.group(1)}"
+    elif n:
+        observed = f"sends {n.group(1)} too {n.group(2)}"
+    elif k:
+        pos, byte = int(k.group(1)), k.group(2)
+        from_end = len(want) - pos if want else -1
+        if len(want) <= 3:
+            observed = f"sends {byte} as byte {pos}"
+        elif from_end == 0:
+            observed = "sends the block with another last byte (its BCC or end)"
+        elif 0 < from_end <= 2:
+            observed = f"sends the block with another byte {from_end + 1} from its end"
+        else:
+            observed = "sends the block with other data"
+    elif obs == "nothing received":
+        observed = "sends nothing"
+    elif obs.startswith("got ") and ", then nothing" in obs:
+        observed = "stops in the middle"
+    elif obs.startswith("it still sent "):
+        observed = "goes on sending after it must stop"
+    elif obs.startswith("it sent "):
+        observed = "sends " + _bytes_word(bytes.fromhex(obs[8:].replace("…", "").strip()) if _HEX.match(
+            obs[8:].strip()) and "*" not in obs else b"\x00" * 4)
+    else:
+        observed = _words(obs)
+    if n:   # the right byte at the wrong time: the IUT's timer, whatever the tester sent before
+        return "", expected, observed
+    return _stimulus_word(c, d.time), expected, observed
+
+
+def describe_signature(sig: tuple[str, str, str], count: int) -> str:
+    context, expected, observed = sig
+    head = f"{count} case{'s' if count != 1 else ''}: "
+    if not expected:
+        return head + observed
+    where = f"after the tester's {context}, " if context else ""
+    return head + f"{where}the IUT {observed} where {expected} is due"
+
+
+def root_causes(cases: Iterable[CaseResult]) -> list[dict[str, Any]]:
+    """The failed cases grouped by the signature of their first divergence
+    (:func:`failure_signature`): one group per distinct deviation, the largest first, each
+    with its description, the number of cases it explains and their ids."""
+    groups: dict[tuple[str, str, str], list[str]] = {}
+    for c in cases:
+        if c.verdict == FAIL:
+            groups.setdefault(failure_signature(c), []).append(c.id)
+    ordered = sorted(groups.items(), key=lambda kv: -len(kv[1]))
+    return [{"signature": list(sig), "description": describe_signature(sig, len(ids)), "count": len(ids),
+             "cases": ids} for sig, ids in ordered]
+
+
+def root_cause_of(run: "RunResult") -> dict[str, int]:
+    """Each failed case's group number (1-based) in the run's deviations."""
+    return {cid: i + 1 for i, g in enumerate(run.deviations()) for cid in g.get("cases", [])}
 
 
 class ResultsError(ValueError):
