@@ -61,7 +61,8 @@ def add_commands(sub) -> None:
     i.add_argument("--parmrk", action="store_true",
                    help="the input marks line conditions as termios PARMRK does (FF 00 00 BREAK, FF 00 xx error, FF FF data FF)")
     i.add_argument("--port", metavar="URL", help="use this serial port (pyserial URL or device) instead of stdin/stdout")
-    i.add_argument("--app", default="echo", help="what to do with received data: echo (default) or none")
+    i.add_argument("--app", default=None,
+                   help="the application: 3964/3964R: echo (default) or none; RK 512: script (default)")
     i.add_argument("--mutant", metavar="NAME", help="run a deliberately broken variant (see --list-mutants)")
     i.add_argument("--list-mutants", action="store_true", help="list the broken variants and exit")
     i.add_argument("-v", "--verbose", action="store_true", help="also log deliveries and job results on stderr")
@@ -108,6 +109,8 @@ def cmd_iut(args) -> int:
         print(f"ptpcert iut: unknown mutant {args.mutant!r} for {proc.title}; --list-mutants shows them",
               file=sys.stderr)
         return 2
+    if args.app is None:
+        args.app = proc.apps()[0]
     if args.app not in proc.apps():
         print(f"ptpcert iut: --app {args.app!r}: allowed values are {', '.join(proc.apps())}", file=sys.stderr)
         return 2
@@ -396,7 +399,9 @@ def cmd_fuzz(args) -> int:
                   + (f", database {args.database}" if args.database else ""))
             print(f"replay: ptpcert fuzz --iut '{args.iut}' --profile {args.profile} --seed {seed} "
                   f"--settings {args.settings} --budget {args.budget:g}", flush=True)
-            runner = Runner(factory, profile, RunOptions(check_status=False, late_ms=50.0))
+            kit = profile.procedure.fuzz_kit()
+            check = bool(kit is not None and kit.check_reports and profile.status_from_stderr)
+            runner = Runner(factory, profile, RunOptions(check_status=check, late_ms=50.0))
             camp = Campaign(profile, runner, args.budget, seed, args.settings, args.database,
                             progress=lambda line: print(line, flush=True), max_actions=args.max_actions)
             camp.run()

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 from typing import Any, Iterable
 
 from . import results as R
+from .html_rules import traceability_section
 from .report import anchor
 
 # ------------------------------------------------------------------ constants
@@ -949,7 +950,7 @@ def render(run: R.RunResult) -> str:
     return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
             f"<title>{esc(title)}</title><style>{CSS}</style></head><body>"
-            + _header(run) + _filter(run) + _summary(run)
+            + _header(run) + _filter(run) + _summary(run) + traceability_section(run)
             + '<section id="cases"><h2>Cases (failures first)</h2>' + cases + "</section>"
             + _legend(used)
             + f"<footer>ptpcert {esc(run.tool_version)} · results schema {esc(run.schema)} · "

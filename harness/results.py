@@ -81,6 +81,7 @@ class CaseResult:
     source: str = ""
     params: dict[str, Any] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
+    rules: list[str] = field(default_factory=list)  # ids of the manual's rules the case checks
 
     @property
     def failed(self) -> bool:

@@ -128,6 +128,7 @@ class CaseRun:
         self.sent_end = self.t0
         self.mark_time = self.t0
         self.partner_delivered: list[bytes] = []
+        self.skipping = 0
 
     # -- helpers -----------------------------------------------------------------------
     def rel(self, t: float) -> float:
@@ -201,11 +202,17 @@ class CaseRun:
 
     # -- steps -------------------------------------------------------------------------
     def run_steps(self) -> None:
+        skip = 0
         for i, step in enumerate(self.steps):
+            if skip:
+                skip -= 1   # the rest of a block the IUT did not send (an optional expect's skip)
+                continue
             self.step_index = i
+            self.skipping = 0
             getattr(self, "_" + step.kind)(step)
             if step.mark:
                 self.mark_time = self.ref
+            skip = self.skipping
 
     def _send_bytes(self, step: Step, data: bytes, writer: Callable[[int], float], kind: str) -> None:
         """Send characters paced as on the line: the k-th starts at ref + at + k*(CHAR+gap)
@@ -285,6 +292,7 @@ class CaseRun:
             if step.optional or step.partial:
                 if step.optional:
                     self._grade(step.absent_grade, f"step {self.step_index + 1}: optional {what} not sent")
+                    self.skipping = step.skip
                 self.forced += max(hi_nom, 0.0)  # the whole window had to be watched
                 return
             if first is None:
@@ -301,6 +309,7 @@ class CaseRun:
                 return
             if step.optional:
                 self._grade(step.absent_grade, f"step {self.step_index + 1}: optional {what} not sent")
+                self.skipping = step.skip
                 return
             self.fail(what, f"received {b:02X}", t, (self.ref + lo_nom, self.ref + hi_nom))
         if t < lo:
@@ -352,6 +361,8 @@ class CaseRun:
 
     def _prime(self, step: Step) -> None:  # pragma: no cover - expanded before running
         raise AssertionError("prime steps are expanded before the run")
+
+    _receive = _prime
 
     # -- before and after the steps ----------------------------------------------------
     def prologue(self, state: "RunnerState") -> None:
@@ -554,12 +565,12 @@ class Runner:
                         "does not name")
             if SETUPS not in caps:
                 return f"needs the IUT started with setup {name!r}; this transport does not start the IUT"
-        return None
+        return v.proc.unsupported_reason(v, self.profile, caps, self.factory)
 
     # -- one case ------------------------------------------------------------------
     def run_case(self, v: Vector) -> R.CaseResult:
         res = R.CaseResult(id=v.id, title=v.title, reference=v.reference, rule=v.rule, group=v.group,
-                           iut_role=v.iut_role, readings=list(v.readings), source=v.source)
+                           iut_role=v.iut_role, readings=list(v.readings), source=v.source, rules=list(v.rules))
         res.expected_status = v.expected.iut_status.describe()
         res.expected_status_codes = [sorted(f"16#{c:04X}" for c in g) for g in v.expected.iut_status.required]
         res.tester_status = v.expected.tester_status.describe()

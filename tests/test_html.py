@@ -489,3 +489,41 @@ def test_screenshot_in_headless_chromium(full_run):
     assert png.stat().st_size > 20_000                      # not a blank page
     assert '<nav id="filter">' in dom
     assert re.search(f'id="{target}" data-verdict="pass"><details open', dom)
+
+
+def test_traceability_section_gives_each_rule_this_runs_verdict():
+    from ptpcert.html_rules import rule_verdicts, traceability_section
+    from ptpcert.rules import for_procedure
+
+    cat = for_procedure("3964r")
+    run = R.RunResult(tool_version="t", started="", procedure="3964/3964R",
+                      profile={"procedure": "3964R", "priority": "low", "data_bits": 8})
+    run.cases = [
+        R.CaseResult("SUITE.A", "passes", "§1", "r.", "idle", "idle", verdict=R.PASS, rules=["3964.IDLE.STRAY-NAK"]),
+        R.CaseResult("SUITE.B", "fails", "§1", "r.", "idle", "idle", verdict=R.FAIL,
+                     rules=["3964.IDLE.STRAY-NAK", "3964.START.NAK"]),
+        R.CaseResult("SUITE.C", "grades", "§1", "r.", "receive", "receiver", verdict=R.NON_STRICT,
+                     rules=["3964.RX.LENGTH"]),
+    ]
+    v = rule_verdicts(run, cat)
+    assert v["3964.IDLE.STRAY-NAK"][0] == R.FAIL and [c.id for c in v["3964.IDLE.STRAY-NAK"][1]] == ["SUITE.A", "SUITE.B"]
+    assert v["3964.START.NAK"][0] == R.FAIL and v["3964.RX.LENGTH"][0] == R.NON_STRICT
+    assert v["3964.RX.ACK"][0] == "not run" and v["3964.FRAME.INTERFACE"][0] == "untestable"
+    assert v["3964.RX.ANSWER-AT-ETX"][0] == "does not apply"   # 3964 only; this IUT is 3964R
+    section = traceability_section(run)
+    assert 'id="traceability"' in section and "3964.IDLE.STRAY-NAK" in section
+    assert '<a href="#' in section and "A17" in section and "docs/readings.md" in section
+    from ptpcert.html import render
+    page = render(run)
+    assert page.index('id="summary"') < page.index('id="traceability"') < page.index('id="cases"')
+    # a run of a procedure without a catalogue has no such section
+    other = R.RunResult(tool_version="t", started="", procedure="ASCII driver")
+    assert traceability_section(other) == ""
+
+
+def test_json_results_carry_each_cases_rule_ids(tmp_path):
+    run = R.RunResult(tool_version="t", started="")
+    run.cases = [R.CaseResult("SUITE.A", "t", "§1", "r.", "idle", "idle", verdict=R.PASS, rules=["3964.START.NAK"])]
+    run.write_json(tmp_path / "r.json")
+    back = R.RunResult.read_json(tmp_path / "r.json")
+    assert back.cases[0].rules == ["3964.START.NAK"]

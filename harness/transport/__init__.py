@@ -49,15 +49,28 @@ class ProcessFactory(Factory):
     between rounds), so that none outlives its use."""
 
     def __init__(self, cls, command: str, parmrk: bool, status: bool, prespawn: int = 2,
-                 command_for: Callable[[Any, str], str | None] | None = None, max_idle: float = 30.0):
+                 command_for: Callable[[Any, str], str | None] | None = None,
+                 start_ahead: Callable[[Any], bool] | None = None, max_idle: float = 30.0):
         self.cls, self.command, self.parmrk, self.status = cls, command, parmrk, status
         probe = cls(command, parmrk=parmrk, status=status)
         super().__init__(None, probe.capabilities | ({SETUPS} if command_for else frozenset()))
         self.prespawn = int(prespawn)
         self.max_idle = max_idle
         self._command_for = command_for
+        self._start_ahead = start_ahead
         self._ready: dict[str, list[tuple[float, Transport]]] = {}
         self._workdir: str | None = None
+        self._plain: str | None = None
+
+    @property
+    def plain(self) -> str:
+        """The command as a case without needs of its own runs it: the template as the
+        procedure completes it (e.g. with an empty RK 512 request script)."""
+        if self._plain is None:
+            self._plain = self.command
+            if self._command_for is not None:
+                self._plain = self._command_for(None, self.workdir) or self.command
+        return self._plain
 
     @property
     def workdir(self) -> str:
@@ -68,10 +81,11 @@ class ProcessFactory(Factory):
 
     def command_for(self, vector) -> str:
         if vector is None or self._command_for is None:
-            return self.command
+            return self.plain
         cmd = self._command_for(vector, self.workdir)
         if cmd is None:
-            raise TransportError(f"case {vector.id}: the profile has no setup {vector.setup[0]!r}")
+            what = f"setup {vector.setup[0]!r}" if vector.setup else "what the case needs"
+            raise TransportError(f"case {vector.id}: the profile has no {what}")
         return cmd
 
     def _started(self, command: str) -> Transport:
@@ -95,21 +109,24 @@ class ProcessFactory(Factory):
         cmd = self.command_for(vector)
         t = self._take(cmd) or self._started(cmd)
         self.reap()
-        plain = self._ready.setdefault(self.command, [])
+        plain = self._ready.setdefault(self.plain, [])
         while len(plain) < self.prespawn:
             try:
-                self._ahead(self.command)
+                self._ahead(self.plain)
             except TransportError:
                 break
         return t
 
     def prepare(self, vector, params: Any) -> None:
-        """The runner's next case: start its IUT now if it needs a command of its own."""
+        """The runner's next case: start its IUT now if it needs a command of its own (and
+        may be started ahead: the procedure says)."""
+        if self._start_ahead is not None and not self._start_ahead(vector):
+            return
         try:
             cmd = self.command_for(vector)
         except TransportError:
             return
-        if cmd != self.command and not self._ready.get(cmd):
+        if cmd != self.plain and not self._ready.get(cmd):
             try:
                 self._ahead(cmd)
             except TransportError:
@@ -206,7 +223,7 @@ def make_factory(url: str, profile, *, prespawn: int = 2) -> Factory:
         def command_for(vector, workdir: str) -> str | None:
             return proc.command(cmd, vector, profile.setups, workdir)
         cls = ExecTransport if scheme == "exec" else PtyTransport
-        return ProcessFactory(cls, cmd, parmrk, status, prespawn, command_for)
+        return ProcessFactory(cls, cmd, parmrk, status, prespawn, command_for, proc.start_ahead)
     if url.startswith("sim:"):
         from .sim import parse_sim_url
         opts = parse_sim_url(url)

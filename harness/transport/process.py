@@ -307,6 +307,17 @@ class PtyTransport(ProcessTransport):
             out = super().read(min(deadline, self.now() + 0.25))
         return out
 
+    def line_settings(self) -> dict | None:
+        """The character frame the IUT set on the pseudo-terminal, in the profile's terms
+        (baud_rate, data_bits, parity, stop_bits), with only the fields this system's ptys
+        keep (:mod:`ptpcert.line_frame`); for a case that compares it with the profile."""
+        from ..line_frame import pty_keeps, read_frame
+        try:
+            frame = read_frame(self.slave)
+        except (OSError, AttributeError):
+            return None
+        return {k: v for k, v in frame.items() if k in pty_keeps()}
+
     def _close_line(self) -> None:
         for fd in (self.master, self.slave):
             try:

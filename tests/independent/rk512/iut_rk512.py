@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Independent RK 512 station (SIMATIC CP 341 "computer link") over 3964R / 3964.
 
-Written from the specification digest only (rk512.md, 3964r.md, status-codes.md);
+Written from a description of the manual's rules only (RK 512, 3964(R), STATUS codes);
 it shares no code with ptpcert.  Python 3.11, standard library only.
 
 The serial line is stdin (received bytes) / stdout (transmitted bytes), binary,
@@ -14,10 +14,10 @@ Roles:
            the local CPU ("pattern" memory, see README.md);
   active   the requests of a script (--requests FILE), one after the other.
 
-References in comments: "Rn.m" = rule of rk512.md, "AMB-n" = its open point,
-"An" = open point of 3964r.md, "§" = section of the manual as quoted there.
+References in comments: "Rn.m" = rule of the author's description, "AMB-n" = its
+open point, "An" = 3964(R) open point as docs/readings.md numbers it, "§" = section of the manual as quoted there.
 
-Readings of the open points (rk512.md §14) taken here -- also in README.md:
+Readings of the open points taken here -- also in README.md:
   AMB-01  counters travel as 5Ah ('Z'); a received 43h ('C') is an invalid
           type letter: 16#0604, REATEL 10h.
   AMB-02  T_RES is a parameter (--tres-ms, default 10000 ms = CP 341 prose);
@@ -170,7 +170,7 @@ class LinkJob:
         self.cancelled = False
 
 
-# link states (3964r.md §12)
+# link states (3964(R) state tables)
 IDLE = "IDLE"
 JUNK = "R_IDLE_JUNK"
 R_DATA = "R_DATA"
