@@ -82,6 +82,9 @@ class Link:
         # so and their applications act only on their events.
         self._streams = (all(hasattr(st, "quiet_run") and hasattr(st, "output_stream") for st in (self.a, self.b))
                          and all(type(h) is Host for h in self._hosts.values()))
+        # With no line timing, the characters of an instant go to a station as one "bytes"
+        # event also when a hook sees each of them (see _collect); False: one event each.
+        self._group_instant = True
         # a null-modem cable: each station's inputs start at the other's outputs
         for st in (self.a, self.b):
             peer = self._peer[st.name]
@@ -262,6 +265,28 @@ class Link:
                         if record:
                             self.wire.extend(WireByte(start, st.name, b) for b in data)
                         self._push(start, dest, "bytes", data)
+                elif char == 0 and self._group_instant:
+                    # no line timing with a hook: the characters a run keeps intact (and a
+                    # duplicated one twice) arrive together as one "bytes" event, exactly as
+                    # one "byte" event each at the same instant would; a corrupted one
+                    # arrives as an "invalid" event of its own between them, in its place
+                    for start, data in runs:
+                        keep = bytearray()
+                        for byte in data:
+                            fate = hook(WireByte(start, st.name, byte))
+                            if record:
+                                self.wire.append(WireByte(start, st.name, byte, fate))
+                            if fate == DELIVER:
+                                keep.append(byte)
+                            elif fate == DUPLICATE:
+                                keep += bytes((byte, byte))
+                            elif fate == CORRUPT:
+                                if keep:
+                                    self._push(start, dest, "bytes", bytes(keep))
+                                    keep.clear()
+                                self._push(start, dest, "invalid", byte)
+                        if keep:
+                            self._push(start, dest, "bytes", bytes(keep))
                 else:
                     for start, data in runs:
                         for i, byte in enumerate(data):

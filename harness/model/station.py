@@ -190,6 +190,10 @@ class Station3964:
                     i = j
                     continue
             b = data[i]
+            if i and self._tx_done_at <= now + _EPS:
+                # a zero-time transmission started by the previous character has ended
+                # before this one, as it has between two receive() calls of one instant
+                self._at(now, strict=True)
             self._input(cls[b], b)
             i += 1
 
