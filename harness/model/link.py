@@ -253,10 +253,11 @@ class Link:
         return t + m * char
 
     def _collect(self, t: float) -> None:
-        record = self.record_wire
+        record, wire = self.record_wire, self.wire
         for st, host, dest, signals in self._ends:
             runs = st.pop_output_runs(t)
             if runs:
+                name = st.name
                 char = st.params.char_time
                 hook = self.hook
                 if hook is None and char == 0:
@@ -273,9 +274,10 @@ class Link:
                     for start, data in runs:
                         keep = bytearray()
                         for byte in data:
-                            fate = hook(WireByte(start, st.name, byte))
+                            w = WireByte(start, name, byte)
+                            fate = hook(w)
                             if record:
-                                self.wire.append(WireByte(start, st.name, byte, fate))
+                                wire.append(w if fate == DELIVER else WireByte(start, name, byte, fate))
                             if fate == DELIVER:
                                 keep.append(byte)
                             elif fate == DUPLICATE:
@@ -291,9 +293,15 @@ class Link:
                     for start, data in runs:
                         for i, byte in enumerate(data):
                             at = start + i * char
-                            fate = DELIVER if hook is None else hook(WireByte(at, st.name, byte))
-                            if record:
-                                self.wire.append(WireByte(at, st.name, byte, fate))
+                            if hook is None:
+                                fate = DELIVER
+                                if record:
+                                    wire.append(WireByte(at, name, byte))
+                            else:
+                                w = WireByte(at, name, byte)
+                                fate = hook(w)
+                                if record:
+                                    wire.append(w if fate == DELIVER else WireByte(at, name, byte, fate))
                             if fate == DROP:
                                 continue
                             kind = "invalid" if fate == CORRUPT else "byte"
