@@ -1,11 +1,12 @@
 """Fuzzing throughput. Prints figures; asserts nothing.
 
-    python benchmarks/bench_fuzz.py [--examples 200] [--seconds 30]
+    python benchmarks/bench_fuzz.py [--examples 200] [--seconds 30] [--workers 4]
 
 * level 1: examples per second of the model-against-model state machine
   (tests/test_fuzz_model.py, virtual time), and steps per second within them;
 * level 2: examples per second of `ptpcert fuzz` against the reference implementation as a
-  real process over exec: at 20 ms timers (each example is a real exchange on the pipe).
+  real process over exec: at 20 ms timers (each example is a real exchange on the pipe),
+  with 1 worker and with 4 (`--workers`), and the ratio.
 """
 
 from __future__ import annotations
@@ -41,30 +42,35 @@ def level1(examples: int) -> None:
           f"{examples / dt:.1f} examples/s, {steps['n'] / dt:.0f} invariant checks/s")
 
 
-def level2(seconds: float) -> None:
-    from ptpcert.fuzz import Campaign
-    from ptpcert.profile import reference_profile
-    from ptpcert.runner import RunOptions, Runner
-    from ptpcert.transport import make_factory
+def level2(seconds: float, workers: int) -> float:
+    """Examples per second of `ptpcert fuzz --workers N` (fuzz.run_workers: each worker a
+    process with its own reference IUT over exec:, 20 ms timers)."""
+    import os
+    from ptpcert.fuzz import WorkerSpec, run_workers
 
-    prof = reference_profile()
-    factory = make_factory(f"exec:{sys.executable} -m ptpcert.cli iut --cdt-ms 20 --adt-ms 20 --parmrk", prof)
-    camp = Campaign(prof, Runner(factory, prof, RunOptions(check_status=False)), seconds, 1)
-    t = time.perf_counter()
-    camp.run()
-    dt = time.perf_counter() - t
-    factory.shutdown()
-    print(f"level 2 (ptpcert iut over exec:, 20 ms timers): {camp.examples} examples in {dt:.1f} s = "
-          f"{camp.examples / dt:.1f} examples/s, {len(camp.findings)} finding(s)")
+    profile = ROOT / "conformance" / "profiles" / "reference-20ms.toml"
+    iut = f"exec:{sys.executable} -m ptpcert.cli iut --cdt-ms 20 --adt-ms 20 --parmrk"
+    load = os.getloadavg()[0]
+    res = run_workers(WorkerSpec(iut, str(profile), seconds, 1, workers=workers))
+    rate = res.examples / res.elapsed
+    print(f"level 2 (ptpcert iut over exec:, 20 ms timers, {workers} worker{'s' * (workers > 1)}): "
+          f"{res.examples} examples in {res.elapsed:.1f} s = {rate:.1f} examples/s, "
+          f"{len(res.findings)} finding(s), load average {load:.1f}" + (f", errors {res.errors}" if res.errors else ""))
+    return rate
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--examples", type=int, default=200)
     ap.add_argument("--seconds", type=float, default=30.0)
+    ap.add_argument("--workers", type=int, default=4, help="workers of the second level-2 run (default 4)")
     args = ap.parse_args()
-    level1(args.examples)
-    level2(args.seconds)
+    ap_workers = args.workers
+    if args.examples > 0:     # --examples 0: level 2 only
+        level1(args.examples)
+    one = level2(args.seconds, 1)
+    many = level2(args.seconds, ap_workers)
+    print(f"level 2: {ap_workers} workers / 1 worker = {many / max(one, 1e-9):.2f}")
 
 
 if __name__ == "__main__":

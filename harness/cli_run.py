@@ -17,6 +17,7 @@ MAX_FAILURES = number(int, 0, None, "(0: no limit)")
 EDGE_ATTEMPTS = number(int, 1, 100)
 BUDGET_S = number(float, 1, 7 * 24 * 3600, "seconds")
 MAX_ACTIONS = number(int, 1, 100)
+WORKERS = number(int, 1, 64)
 
 
 def JOBS(text: str) -> int:
@@ -103,6 +104,9 @@ def add_commands(sub) -> None:
     f.add_argument("--database", metavar="DIR",
                    help="hypothesis example database, to share a campaign between runs or machines")
     f.add_argument("--max-actions", type=MAX_ACTIONS, default=6, help="tester actions per example (default 6; 1 to 100)")
+    f.add_argument("--workers", type=WORKERS, default=1, metavar="N",
+                   help="example streams at once, each a process with its own IUT instance (exec:, pty:, "
+                        "sim:), all sharing the example database (default 1; 1 to 64)")
     f.set_defaults(func=cmd_fuzz)
 
     rep = sub.add_parser("report", help="render a saved results object (JSON) as HTML or JUnit")
@@ -417,6 +421,18 @@ def cmd_fuzz(args) -> int:
         return 2
     seed = args.seed if args.seed is not None else random.SystemRandom().randrange(1, 2**31)
     out_dir = args.export or str(findings_dir())
+    if args.workers > 1:
+        if not args.iut.startswith(("exec:", "pty:", "sim:")):
+            print(f"ptpcert fuzz: --workers {args.workers} needs an IUT that can be started several times "
+                  f"(exec:, pty:, sim:); {args.iut} is one line", file=sys.stderr)
+            return 2
+        try:
+            from .fuzz import open_database
+            open_database(args.database)
+        except (ValueError, OSError) as exc:
+            print(f"ptpcert fuzz: {exc}", file=sys.stderr)
+            return 2
+        return _fuzz_workers(args, profile, seed, out_dir)
     with Interrupts(args) as interrupts:
         camp = None
         interrupted = False
@@ -461,6 +477,43 @@ def cmd_fuzz(args) -> int:
     if interrupted:
         return 2
     return 1 if camp.findings else 0
+
+
+def _fuzz_workers(args, profile, seed: int, out_dir: str) -> int:
+    """``ptpcert fuzz --workers N``: N campaigns at once (:func:`ptpcert.fuzz.run_workers`)."""
+    from .fuzz import WorkerSpec, export, run_workers
+
+    factory = _connect("fuzz", args.iut, profile)   # the IUT starts: checked once, here
+    if factory is None:
+        return 2
+    factory.shutdown()
+    print(f"ptpcert fuzz {__version__}: iut {args.iut}, profile {args.profile}, {args.workers} workers")
+    print(f"seed {seed}, settings {args.settings}, budget {args.budget:g} s"
+          + (f", database {args.database}" if args.database else ""))
+    print(f"replay: ptpcert fuzz --iut '{args.iut}' --profile {args.profile} --seed {seed} "
+          f"--settings {args.settings} --budget {args.budget:g} --workers {args.workers}", flush=True)
+    spec = WorkerSpec(args.iut, str(args.profile), args.budget, seed, args.settings, args.database,
+                      args.max_actions, args.workers)
+    with Interrupts(args) as interrupts:
+        res = run_workers(spec, progress=lambda line: print(line, flush=True))
+        interrupts.disarm()
+    interrupted = res.interrupted or interrupts.count > 0
+    for i, why in res.errors:
+        print(f"ptpcert fuzz: worker {i}: {why}", file=sys.stderr)
+    try:
+        paths = export(res.findings, out_dir) if res.findings else []
+    except OSError as exc:
+        print(f"ptpcert fuzz: findings cannot be written to {out_dir} ({exc.strerror or exc})", file=sys.stderr)
+        paths, interrupted = [], True
+    print(f"\n{res.examples} examples in {res.elapsed:.1f} s ({res.examples / max(res.elapsed, 1e-9):.1f}/s, "
+          f"{args.workers} workers), {len(res.findings)} finding(s), {res.informational} divergence(s) "
+          f"explained by another reading, {res.not_reproduced} not reproduced, {res.void} void "
+          "(interruption reached the IUT late)" + (", INTERRUPTED" if interrupted else ""))
+    for p in paths:
+        print(f"  written: {p}")
+    if interrupted or (res.errors and not res.findings):
+        return 2
+    return 1 if res.findings else 0
 
 
 def cmd_report(args) -> int:

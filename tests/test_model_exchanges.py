@@ -416,3 +416,79 @@ def test_jobs_queue_until_idle():
     a.request_send(0.105, P2)
     a.receive(0.11, codec.body(P1, "3964R"))
     assert [b for _, b in a.pop_output()] == [DLE, DLE, STX]
+
+
+# ------------------------------------------------------------------ runs carried at once
+def _scripted(streams: bool, script, baud, proc):
+    """Run ``script`` (a list of actions) on a fresh pair; with ``streams`` False the link
+    carries every character as an event of its own. Returns everything observable."""
+    faults: list[str] = []
+    seen: list[tuple] = []
+
+    def hook(w):
+        seen.append((round(w.start, 9), w.src, w.byte))
+        return faults.pop(0) if faults and w.byte not in (STX,) else DELIVER
+
+    a = Station3964(Params3964(procedure=proc, priority="low", baud_rate=baud, cdt_ms=20, adt_ms=200), name="a")
+    b = Station3964(Params3964(procedure=proc, priority="high", baud_rate=baud, cdt_ms=20, adt_ms=200), name="b")
+    link = Link(a, b, hook=hook, echo={"b"})
+    link._streams = link._group_instant = streams
+    link.power_on(0.0)
+    for what, arg in script:
+        if what == "request":
+            link.request(a if arg[0] == "a" else b, arg[1])
+        elif what == "run":
+            link.run_until(link.now + arg)
+        elif what == "fault":
+            faults.append(arg)
+        elif what == "break":
+            link.inject_break(b, at=link.now)
+    link.run_until_quiet(link.now + 30.0)
+    return (seen, [(round(w.start, 9), w.src, w.byte, w.fate) for w in link.wire],
+            [(n, type(e).__name__, round(e.time, 9), getattr(e, "code", getattr(e, "payload", None)))
+             for n, e in link.events],
+            (a.state, b.state, round(link.now, 9)))
+
+
+def test_runs_carried_at_once_change_nothing():
+    """A block's data towards a receiver that only stores it is handed over in one call
+    (Link._stream, Station3964.quiet_run/receive_run): the wire, the hook's view, every
+    event and its time are those of the link that carries each character as an event of
+    its own, also when a run is cut by ``run_until``, a fault, a BREAK or a DLE. With no
+    line timing the characters of an instant go over as one "bytes" event (Link._collect),
+    with a hook too."""
+    import random
+    rnd = random.Random(3964)
+    for trial in range(80):
+        proc = rnd.choice(["3964", "3964R"])
+        baud = rnd.choice([9600, 19200, 2400, None])
+        script = []
+        for _ in range(rnd.randint(1, 6)):
+            kind = rnd.random()
+            if kind < 0.45:
+                size = rnd.choice([1, 5, 64, 300, 1024])
+                data = bytes(rnd.choice([0x10, 0x02, 0x03, 0x15]) if rnd.random() < 0.05 else rnd.randrange(256)
+                             for _ in range(size))
+                script.append(("request", (rnd.choice("ab"), data)))
+            elif kind < 0.75:
+                script.append(("run", rnd.choice([0.0005, 0.003, 0.02, 0.1, 0.5])))
+            elif kind < 0.95:
+                script.append(("fault", rnd.choice([DROP, CORRUPT, "duplicate"])))
+            else:
+                script.append(("break", None))
+        slow, fast = _scripted(False, script, baud, proc), _scripted(True, script, baud, proc)
+        assert fast == slow, (trial, script)
+
+
+def test_a_long_block_at_9600_is_carried_in_few_steps():
+    """The point of carrying runs at once: a 1024-byte block at 9600 baud takes a handful
+    of the link's instants, not one per character."""
+    link, a, b = pair(baud_rate=9600)
+    calls = []
+    orig = b.receive_run
+    b.receive_run = lambda now, data, spacing: (calls.append(len(data)), orig(now, data, spacing))
+    payload = bytes(range(1, 256)) * 4
+    link.request(a, payload[:1024].replace(b"\x10", b"\x11"))
+    assert link.run_until_quiet(60)
+    assert [e.payload for e in link.events_of(b, Delivered)] == [payload[:1024].replace(b"\x10", b"\x11")]
+    assert sum(calls) >= 1000 and len(calls) <= 10

@@ -73,6 +73,18 @@ class Link:
                        for st in (self.a, self.b)}
         #: modem-line changes: (time, station, output, value)
         self.signals: list[tuple[float, str, str, int]] = []
+        # per station, looked up once: (station, its application, the peer's name, whether
+        # it drives modem outputs)
+        self._ends = tuple((st, self._hosts[st.name], self._peer[st.name].name, hasattr(st, "pop_signals"))
+                           for st in (self.a, self.b))
+        # A run of characters towards a station that only stores them (a block's data at
+        # 9600 baud) is handed over in one call (see _stream) where both stations can say
+        # so and their applications act only on their events.
+        self._streams = (all(hasattr(st, "quiet_run") and hasattr(st, "output_stream") for st in (self.a, self.b))
+                         and all(type(h) is Host for h in self._hosts.values()))
+        # With no line timing, the characters of an instant go to a station as one "bytes"
+        # event also when a hook sees each of them (see _collect); False: one event each.
+        self._group_instant = True
         # a null-modem cable: each station's inputs start at the other's outputs
         for st in (self.a, self.b):
             peer = self._peer[st.name]
@@ -122,13 +134,37 @@ class Link:
 
     def run_until(self, until: float) -> None:
         """Process everything that happens up to and including ``until``."""
+        self._run(until, quiet=False)
+
+    def run_until_quiet(self, limit: float) -> bool:
+        """Run until both stations are idle with nothing in flight and nothing scheduled,
+        or until ``limit``. Returns True when quiet was reached."""
+        if self._run(limit, quiet=True):
+            return self.a.idle and self.b.idle
+        return False
+
+    def _run(self, until: float, quiet: bool) -> bool:
+        """The event loop: instant by instant up to ``until``; with ``quiet``, return True
+        (without moving the clock on) as soon as nothing is scheduled any more."""
         steps = 0
         last = None
+        a, b = self.a, self.b
+        flight = self._flight
+        pop = heapq.heappop
         while True:
-            t = self.next_time()
+            t = flight[0][0] if flight else inf
+            d = a.next_deadline()
+            if d is not None and d < t:
+                t = d
+            d = b.next_deadline()
+            if d is not None and d < t:
+                t = d
+            if t == inf and quiet:
+                return True
             if t > until:
                 break
-            t = max(t, self.now)
+            if t < self.now:
+                t = self.now
             if t == last:
                 steps += 1
                 if steps > self.max_steps_per_instant:
@@ -137,64 +173,148 @@ class Link:
                 last, steps = t, 0
             self.now = t
             # inputs of this instant first, then deadlines (the station's ordering rule)
-            while self._flight and self._flight[0][0] <= t:
-                _, _, dest, kind, value = heapq.heappop(self._flight)
-                st = self.a if dest == self.a.name else self.b
+            while flight and flight[0][0] <= t:
+                arrive, _, dest, kind, value = pop(flight)
+                st = a if dest == a.name else b
+                if kind == "byte" and self._streams and arrive == t:
+                    end = self._stream(st, t, value, until)
+                    if end is not None:
+                        t = self.now = end
+                        continue
                 st.line_event(t, kind, value)
-            for st in (self.a, self.b):
-                d = st.next_deadline()
-                if d is not None and d <= t:
-                    st.handle_timer(t)
+            d = a.next_deadline()
+            if d is not None and d <= t:
+                a.handle_timer(t)
+            d = b.next_deadline()
+            if d is not None and d <= t:
+                b.handle_timer(t)
             self._collect(t)
         self.now = max(self.now, until) if until != inf else self.now
-
-    def run_until_quiet(self, limit: float) -> bool:
-        """Run until both stations are idle with nothing in flight and nothing scheduled,
-        or until ``limit``. Returns True when quiet was reached."""
-        while True:
-            t = self.next_time()
-            if t == inf:
-                return self.a.idle and self.b.idle
-            if t > limit:
-                self.run_until(limit)
-                return False
-            self.run_until(t)
+        return False
 
     # -- internals -------------------------------------------------------------------
     def _push(self, at: float, dest: str, kind: str, value: int) -> None:
         self._seq += 1
         heapq.heappush(self._flight, (at, self._seq, dest, kind, value))
 
+    def _stream(self, rx: Any, t: float, first: int, until: float) -> float | None:
+        """``first`` arrives at ``rx`` now (``t``) and its peer is sending a run of
+        characters back to back from now on: hand over at once the characters of the run
+        that arrive before anything else happens, if ``rx`` would only store them (see
+        ``Station3964.quiet_run``). Exactly what the instant-by-instant loop does, in one
+        call: the bytes leave the peer at the same times, the hook sees each of them in the
+        same order, and nothing else is due in between (no other character in flight, no
+        deadline of the peer but pacing its characters, none of ``rx``). Returns the
+        arrival time of the last character handed over (the loop goes on from there), or
+        None to deliver ``first`` alone."""
+        tx = self._peer[rx.name]
+        out = tx.output_stream()
+        if out is None or tx.has_events:
+            return None
+        start, data, horizon = out
+        char = tx.params.char_time
+        if char <= 0 or abs(start - t) > 1e-9:
+            return None
+        # the i-th character of the run (i = 1, 2, ...) arrives at t + i * char; all of them
+        # before the next character in flight, the peer's next deadline, and ``until``
+        nxt = self._flight[0][0] if self._flight else inf
+        lim = min(nxt, horizon) - 1e-9
+        k = int((min(lim, until) - t) / char) if min(lim, until) < inf else len(data)
+        k = min(max(k, 0), len(data))
+        if k < 1:
+            return None
+        run = bytes((first,)) + data[:k]
+        m = rx.quiet_run(t, run, char) - 1    # characters of the peer's run taken at once
+        if m < 1:
+            return None
+        hook, record = self.hook, self.record_wire
+        popped = m
+        if hook is not None or record:
+            for i in range(m):
+                at = start + i * char
+                w = WireByte(at, tx.name, data[i])
+                fate = DELIVER if hook is None else hook(w)
+                if record:
+                    self.wire.append(w if fate == DELIVER else WireByte(at, tx.name, data[i], fate))
+                if fate != DELIVER:
+                    # this character goes its own way, as the loop would send it; the run
+                    # handed over ends before it
+                    popped, m = i + 1, i
+                    if fate != DROP:
+                        kind = "invalid" if fate == CORRUPT else "byte"
+                        self._push(at + char, rx.name, kind, data[i])
+                        if fate == DUPLICATE:
+                            self._push(at + 2 * char, rx.name, kind, data[i])
+                    break
+        got = sum(len(x) for _, x in tx.pop_output_runs(start + (popped - 0.5) * char))
+        if got != popped:   # pragma: no cover - the station paces its run one character apart
+            raise RuntimeError(f"link: {tx.name} handed out {got} characters, not {popped}")
+        rx.receive_run(t, run[:m + 1], char)
+        return t + m * char
+
     def _collect(self, t: float) -> None:
-        for st in (self.a, self.b):
+        record, wire = self.record_wire, self.wire
+        for st, host, dest, signals in self._ends:
             runs = st.pop_output_runs(t)
             if runs:
+                name = st.name
                 char = st.params.char_time
-                dest = self._peer[st.name].name
                 hook = self.hook
                 if hook is None and char == 0:
                     # no line timing and nothing to tamper with: whole runs arrive at once
                     for start, data in runs:
-                        if self.record_wire:
+                        if record:
                             self.wire.extend(WireByte(start, st.name, b) for b in data)
                         self._push(start, dest, "bytes", data)
-                    continue
-                for start, data in runs:
-                    for i, byte in enumerate(data):
-                        at = start + i * char
-                        fate = DELIVER if hook is None else hook(WireByte(at, st.name, byte))
-                        if self.record_wire:
-                            self.wire.append(WireByte(at, st.name, byte, fate))
-                        if fate == DROP:
-                            continue
-                        kind = "invalid" if fate == CORRUPT else "byte"
-                        self._push(at + char, dest, kind, byte)
-                        if fate == DUPLICATE:
-                            self._push(at + 2 * char, dest, kind, byte)
+                elif char == 0 and self._group_instant:
+                    # no line timing with a hook: the characters a run keeps intact (and a
+                    # duplicated one twice) arrive together as one "bytes" event, exactly as
+                    # one "byte" event each at the same instant would; a corrupted one
+                    # arrives as an "invalid" event of its own between them, in its place
+                    for start, data in runs:
+                        keep = bytearray()
+                        for byte in data:
+                            w = WireByte(start, name, byte)
+                            fate = hook(w)
+                            if record:
+                                wire.append(w if fate == DELIVER else WireByte(start, name, byte, fate))
+                            if fate == DELIVER:
+                                keep.append(byte)
+                            elif fate == DUPLICATE:
+                                keep += bytes((byte, byte))
+                            elif fate == CORRUPT:
+                                if keep:
+                                    self._push(start, dest, "bytes", bytes(keep))
+                                    keep.clear()
+                                self._push(start, dest, "invalid", byte)
+                        if keep:
+                            self._push(start, dest, "bytes", bytes(keep))
+                else:
+                    for start, data in runs:
+                        for i, byte in enumerate(data):
+                            at = start + i * char
+                            if hook is None:
+                                fate = DELIVER
+                                if record:
+                                    wire.append(WireByte(at, name, byte))
+                            else:
+                                w = WireByte(at, name, byte)
+                                fate = hook(w)
+                                if record:
+                                    wire.append(w if fate == DELIVER else WireByte(at, name, byte, fate))
+                            if fate == DROP:
+                                continue
+                            kind = "invalid" if fate == CORRUPT else "byte"
+                            self._push(at + char, dest, kind, byte)
+                            if fate == DUPLICATE:
+                                self._push(at + 2 * char, dest, kind, byte)
             # every instant: an application may act without a new event (a delayed read)
-            self.events.extend((st.name, e) for e in self._hosts[st.name].drain(t))
+            events = host.drain(t)
+            if events:
+                name = st.name
+                self.events.extend((name, e) for e in events)
             # signals after the application: what it did may have switched one
-            if hasattr(st, "pop_signals"):
+            if signals:
                 peer = self._peer[st.name]
                 for at, out, value in st.pop_signals(t):
                     self.signals.append((at, st.name, out, value))
