@@ -241,6 +241,11 @@ class P3964(Procedure):
                             + " / echo " + ", ".join(codec.hexstr(x) for x in echoed[1:]))
         return "pass", ""
 
+    # -- line analysis --------------------------------------------------------------------
+    def analyzer(self, params_a: Params3964, params_b: Params3964, *, apps=None, late_ms: float = 50.0):
+        from .p3964_analysis import Analyzer3964
+        return Analyzer3964(self, {"a": params_a, "b": params_b}, dict(apps or {}), late_ms)
+
     # -- broken variants and fuzzing ------------------------------------------------------
     def mutants(self) -> Mapping[str, Mutant]:
         from .. import mutants
