@@ -139,9 +139,10 @@ class ProcedureAnalyzer:
         """How long the line must be quiet before every conforming station is at rest."""
         raise NotImplementedError
 
-    def early_max(self, seat: str) -> float:
-        """The largest ``Cause.early`` of the seat's bytes (how long an unexplained byte waits
-        for the model to send it too)."""
+    def early_wait(self, host: Any) -> float:
+        """How long after a byte the model does not send the analysis waits for the model to
+        send it after all (a timer of the station's own that a conforming station may let run
+        out that much sooner), before the byte stands as one the model does not send."""
         raise NotImplementedError
 
     def late_max(self, seat: str) -> float:
@@ -173,6 +174,10 @@ class ProcedureAnalyzer:
         (True, e.g. two STXs crossing), or after (False: the station answered them)?"""
         return False
 
+    def event(self, run: "SeatRun", event: Any) -> None:
+        """Every event the model raises (STATUS, deliveries, job results), for the
+        procedure's own bookkeeping in ``run.memo``."""
+
     def begins(self, byte: int) -> bool:
         """Does a station's ``byte``, sent for a local event, begin an exchange (e.g. STX)?"""
         return False
@@ -186,14 +191,17 @@ class ProcedureAnalyzer:
         """(rule, reference, code) of what a station sends at start-up."""
         return ("a station announces its start-up", "", None)
 
-    def cause(self, host: Any, entry: Any, k: int, byte: int) -> Cause:
-        """Why the model sends ``byte``, the ``k``-th of the transmission ``entry`` of its
-        explanation log (``station.tx_log``: [start, end, input, actions])."""
+    def cause(self, run: "SeatRun", entry: Any, k: int, byte: int) -> Cause:
+        """Why the model (``run.host``) sends ``byte``, the ``k``-th of the transmission
+        ``entry`` of its explanation log (``station.tx_log``: [start, end, input, actions]).
+        One cause serves every byte of a transmission."""
         raise NotImplementedError
 
-    def unexpected(self, host: Any, item: "Item", later: tuple[float, int, Cause] | None) -> Cause:
-        """The rule broken by sending ``item`` where the model sends nothing; ``later`` is
-        what the model sends next, if it sends anything soon: (completion, byte, cause)."""
+    def unexpected(self, run: "SeatRun", host: Any, item: "Item",
+                   later: tuple[float, int, Cause] | None) -> Cause:
+        """The rule broken by sending ``item`` where the model ``host`` (as it was when the
+        byte began) sends nothing; ``later`` is what the model sends next without further
+        input, if anything: (completion, byte, cause)."""
         raise NotImplementedError
 
     def name(self, byte: int) -> str:
@@ -283,13 +291,16 @@ class SeatRun:
         self._applied = -1
         self._tied = -inf
         self._snapshot: tuple | None = None
-        self.rest = (t0, i_in, i_obs, expect_startup)
+        self._held: list[tuple] = []
+        #: the procedure's own notes about this run (e.g. the send jobs the line revealed)
+        self.memo: dict[str, Any] = {}
+        self.rest = (t0, i_in, i_obs, expect_startup, {})
         self._log_pos = -1
         self._log_k = 0
         self._log_cause: Cause | None = None
         self.char = self.kit.char(judge.seat)
         self.res = judge.analysis.resolution
-        self.early_wait = self.kit.early_max(judge.seat) + self.res
+        self.early_wait = 0.0
 
     # -- the model ------------------------------------------------------------------------
     def replace_host(self, host: Any) -> None:
@@ -301,7 +312,7 @@ class SeatRun:
         """Why the model sends the byte it began at ``s``: (cause, log entry, index in it)."""
         log = self.st.tx_log
         if not log:
-            return self.kit.cause(self.host, None, 0, b), None, 0
+            return self.kit.cause(self, None, 0, b), None, 0
         pos = self._log_pos
         n = len(log)
         moved = pos < 0
@@ -317,7 +328,7 @@ class SeatRun:
         cause = self._log_cause
         if cause is None:
             # one cause per transmission: the bytes of a block share it
-            cause = self._log_cause = self.kit.cause(self.host, entry, k, b)
+            cause = self._log_cause = self.kit.cause(self, entry, k, b)
         return cause, entry, k
 
     def _name(self, cause: Cause, entry: Any, k: int, b: int) -> str:
@@ -343,6 +354,10 @@ class SeatRun:
         kit = self.kit
         flags = self.flags
         while True:
+            if self._held:
+                r = self._release()
+                if r is not None:
+                    return "wait" if r is WAIT else r
             if rest_after is not None and self.now > rest_after and self._rested(self.now):
                 return "rest"
             st = self.st
@@ -400,12 +415,15 @@ class SeatRun:
                         flags[it.chunk] = kit.at_rest(self.host) and (
                             self.i_obs >= len(obs) or obs[self.i_obs].start >= t - QUANTUM)
                     if st.transmitting:
-                        for s_, b in st.pop_output(t + QUANTUM):   # begun at the same instant: on the line
-                            if self._match(s_, b):
-                                return "fail"
+                        # a byte begun at the same instant was on the line before the input
+                        r = self._compare_all(st.pop_output(t + QUANTUM))
+                        if r is not None:
+                            self.i_in -= 1      # taken in once the byte is settled
+                            return r
                     st.line_event(t if t > st.now else st.now, it.kind, it.value)
-                    if self._collect(t):
-                        return "fail"
+                    r = self._collect(t)
+                    if r is not None:
+                        return r
                 if self.stage and self._retry(t) is WAIT:
                     return "wait"
                 if self.failed:
@@ -413,8 +431,9 @@ class SeatRun:
                 continue
             if t_dl == t:
                 st.handle_timer(t)
-                if self._collect(t):
-                    return "fail"
+                r = self._collect(t)
+                if r is not None:
+                    return r
                 if self.stage and self._retry(t) is WAIT:
                     return "wait"
                 if self.failed:
@@ -451,6 +470,7 @@ class SeatRun:
         """Nothing explains the seat's byte yet: the model as it is now says, if the byte stays
         unexplained, which rule it broke."""
         self.stage = 2
+        self.early_wait = self.kit.early_wait(self.host) + self.res
         self._snapshot = (copy.deepcopy(self.host), self._log_pos, self._log_k)
         o = self.judge.obs[self.i_obs]
         if o.chunk not in self.flags:
@@ -461,7 +481,7 @@ class SeatRun:
         return self.i_obs >= len(obs) or obs[self.i_obs].start > t + _EPS
 
     def _rested(self, t: float) -> bool:
-        return self.stage == 0 and self._at_rest() and self._nothing_due(t)
+        return self.stage == 0 and not self._held and self._at_rest() and self._nothing_due(t)
 
     def _explain(self, idx: int, o: Item, t: float) -> Any:
         if self._applied == idx:
@@ -486,25 +506,52 @@ class SeatRun:
         e.apply(self, at)
         if e.note:
             self.notes.append((o.t, e.note))
-        self._collect(at)
-        return True
+        r = self._collect(at)
+        return r if r is WAIT else True
 
-    def _collect(self, t: float) -> bool:
+    def _collect(self, t: float) -> Any:
+        """After the model acted at ``t``: its events, and its bytes compared with the seat's.
+        Returns None, "fail", or WAIT (a byte's window is still open on a live line)."""
         st = self.st
         if st.has_events:
             for e in self.host.drain(t if t > st.now else st.now):
                 code = getattr(e, "code", None)
                 if code is not None and hasattr(e, "side"):
                     self.events.append((e.time, code))
+                self.kit.event(self, e)
         if st.transmitting:
-            for s, b in st.pop_output(t):
-                if self._match(s, b):
-                    return True
+            r = self._compare_all(st.pop_output(t))
+            if r is not None:
+                return r
         if self.stage == 0 and not st.transmitting and self._rested(t):
-            self.rest = (t, self.i_in, self.i_obs, self.expect_startup)
+            self.rest = (t, self.i_in, self.i_obs, self.expect_startup, dict(self.memo))
             self.judge.committed(self)
             self._trim_log()
-        return False
+        return None
+
+    def _compare_all(self, popped: list) -> Any:
+        for s, b in popped:
+            if self._held:
+                self._held.append((s, b) + self._cause_of(s, b))
+                continue
+            cause, entry, k = self._cause_of(s, b)
+            r = self._compare(s, b, cause, entry, k)
+            if r is True:
+                return "fail"
+            if r is WAIT:
+                self._held.append((s, b, cause, entry, k))
+        return WAIT if self._held else None
+
+    def _release(self) -> Any:
+        """Bytes the model sent while their windows were open: compare them now."""
+        while self._held:
+            r = self._compare(*self._held[0])
+            if r is WAIT:
+                return WAIT
+            self._held.pop(0)
+            if r is True:
+                return "fail"
+        return None
 
     # -- comparing ------------------------------------------------------------------------
     def _show(self, o: Item | None) -> str:
@@ -516,12 +563,13 @@ class SeatRun:
             return f"{self.kit.name(o.value)} with a parity/framing error"
         return self.kit.name(o.value)
 
-    def _match(self, s: float, b: int) -> bool:
-        """The model has begun to send ``b`` at ``s``: compare with the seat's next byte."""
+    def _compare(self, s: float, b: int, cause: Cause, entry: Any, k: int) -> Any:
+        """The model has begun to send ``b`` at ``s``: compare with the seat's next byte.
+        False: it matches; True: a difference (see :attr:`failed`); WAIT: its window is still
+        open and the seat has sent nothing since."""
         j = self.judge
         obs = j.obs
         p = s + self.char
-        cause, entry, k = self._cause_of(s, b)
         r = self.res
         lo, hi = p - cause.early - r, p + cause.late + r
         o = obs[self.i_obs] if self.i_obs < len(obs) else None
@@ -540,6 +588,8 @@ class SeatRun:
             if d > 1e-7:
                 self.st.delay_output(d)   # follow the seat: what it sends next starts later too
             return False
+        if o is None and hi > j.analysis.known_until:
+            return WAIT
         name = self._name(cause, entry, k, b)
         codes = (cause.code,) if cause.code else ()
         if o is None or o.t > hi:
@@ -590,7 +640,7 @@ class SeatRun:
         """The seat sent ``o`` and the model does not send it: say what the model does next."""
         later = self._peek(o)
         host = self._snapshot[0] if self._snapshot is not None else self.host
-        cause = self.kit.unexpected(host, o, later)
+        cause = self.kit.unexpected(self, host, o, later)
         shown = self._show(o)
         if later is not None and o.kind == "byte" and later[1] == o.value:
             msg = f"{shown} {1000 * (later[0] - o.t):.3f} ms too early: {cause.rule} ({cause.reference})"
@@ -696,7 +746,8 @@ class SeatJudge:
             reset = a.next_reset(self.resets_done)
             limit = until if reset is None else min(until, reset[0] - 1e-7)
             if self.failing is not None:
-                if not self._decide(limit, final and (reset is None or reset[0] > until)):
+                # the stretch being decided ends at the next reset, or with the recording
+                if not self._decide(limit, final or (reset is not None and reset[0] <= until)):
                     return
                 continue
             if self.run is None and not self._resume(limit):
@@ -774,11 +825,13 @@ class SeatJudge:
 
     def _start_deciding(self, run: SeatRun) -> None:
         self.failing = run
-        t_r, i_in, i_obs, startup = run.rest
+        t_r, i_in, i_obs, startup, memo = run.rest
         self.candidates = []
         for v in self.kit.variants(self.seat, self.analysis.resolution):
             host = self.kit.fresh(self.seat, t_r, v.readings)
-            self.candidates.append(SeatRun(self, host, t_r, i_in, i_obs, variant=v, expect_startup=startup))
+            cand = SeatRun(self, host, t_r, i_in, i_obs, variant=v, expect_startup=startup)
+            cand.memo = dict(memo)
+            self.candidates.append(cand)
 
     def _decide(self, until: float, final: bool) -> bool:
         """Run the alternatives; True when the difference stands or an alternative was taken."""
@@ -1005,14 +1058,14 @@ class LineAnalysis:
         return lo
 
     # -- judging --------------------------------------------------------------------------
-    def lag(self) -> float:
-        return (max(self.kit.late_max(s) for s in SEATS) + self.resolution
-                + max(self.kit.char(s) for s in SEATS) + 0.001)
-
     def advance(self, now: float) -> None:
-        """Judge what can be judged at ``now`` (live use): up to a lag behind it."""
+        """Judge what can be judged at ``now`` (live use): everything up to a character time
+        before it, except a byte the model sends whose window is still open and which the
+        seat has not sent yet."""
         self.known_until = max(self.known_until, now)
-        until = now - self.lag()
+        # a byte that began before now may not have been read yet: judge up to where every
+        # byte that began is in (a character time, and the resolution, behind)
+        until = now - max(self.kit.char(s) for s in SEATS) - self.resolution - 2 * QUANTUM
         if until <= self._done_until:
             return
         for j in self.judges.values():

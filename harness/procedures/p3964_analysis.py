@@ -36,6 +36,7 @@ from ..analyze import OTHER, SEATS, Cause, Explanation, ProcedureAnalyzer, Varia
 from ..model import Host, Station3964, codec
 from ..model import table as T
 from ..model.codes import Code
+from ..model.events import SendFailed
 from ..model.params import T_BLOCK, T_NAKTIM
 from ..model.readings import READINGS
 
@@ -90,6 +91,12 @@ _BREAK_RULE = ("a station never sends a BREAK: the line is broken (a CP 341 on t
 _INVALID_RULE = ("a character with a parity or framing error: the line or the sender's transmitter is at "
                  "fault (a CP 341 receiving it raises 16#080C)",
                  "§2.2.2 Error handling; Figs. 2-10 to 2-12 'invalid character'; Table 8-1 16#080C")
+_AFTER_BREAK = ("after a BREAK a station returns to its initial state at once: it abandons what it was "
+                "sending or receiving and sends nothing, no NAK and no new attempt (16#080D)",
+                "§2.2.2 Error handling; Figs. 2-10 to 2-12 'BREAK'; Table 8-1 16#080D")
+_HIGH_KEEPS = ("initialization conflict: the high-priority station does not answer the partner's STX; it "
+               "keeps waiting for the DLE to its own STX",
+               "§2.2.2 Initialization conflict; Fig. 2-8; Fig. 2-10 'high priority'")
 _LEN_RULE = ("a send job carries 1 to 1024 bytes: a block without data or longer than 1024 bytes is not "
              "sent (the CP 341 refuses the job with 16#1E41)",
              "Tables 6-2/6-3 LEN; Table A-5; Table 8-2 16#1E41")
@@ -133,9 +140,16 @@ class Analyzer3964(ProcedureAnalyzer):
     def rest_gap(self) -> float:
         return self._rest
 
-    def early_max(self, seat: str) -> float:
-        p = self.params[seat]
-        return self.char(seat) + 0.05 * max(p.cdt, p.adt, T_NAKTIM) + 3e-6
+    def _duration(self, p, timer: str) -> float:
+        return {T.T_ADT: p.adt, T.T_CDT: p.cdt, T.T_NAKTIM: T_NAKTIM, T.T_BLOCK: T_BLOCK}[timer]
+
+    def early_wait(self, host: Host) -> float:
+        st = host.station
+        running = st.timer
+        c = st.params.char_time
+        if running is None:
+            return c + 3e-6
+        return c + 0.05 * self._duration(st.params, running[0]) + 3e-6
 
     def late_max(self, seat: str) -> float:
         p, q = self.params[seat], self.params[OTHER[seat]]
@@ -176,16 +190,28 @@ class Analyzer3964(ProcedureAnalyzer):
             payload = self._payload(run, index)
             if payload is WAIT:
                 return WAIT
+            aborted = run.memo.get("aborted")
+            if (aborted is not None and payload in (None, aborted[0])
+                    and item.start - aborted[1] < self._rest):
+                return None     # the job a BREAK ended, tried again: not a new job
+            if payload is None:
+                payload = b"\x00"   # its block never went on the line: any data will do
             if not self._sendable(seat, payload):
                 self._unsendable[(seat, index)] = payload
                 return None
-            return Explanation(lambda r, t, p=payload: r.st.request_send(t, p))
+            return Explanation(lambda r, t, p=payload: self._request(r, t, p))
         if b == NAK and st.idle and self._quiet(run, index):
             return Explanation(lambda r, t: r.replace_host(self.powered(seat, t)),
                                "restarted: its start-up NAK after a quiet line (Fig. 2-9)")
         if b == DLE and st.state is T.WAIT_BUFFER:
             return Explanation(lambda r, t: r.st.set_buffer_free(t, True))
         return None
+
+    @staticmethod
+    def _request(run, t: float, payload: bytes) -> None:
+        # the jobs the line revealed (the latest few: a job's block follows it at once)
+        run.memo["requested"] = run.memo.get("requested", ())[-3:] + (payload,)
+        run.st.request_send(t, payload)
 
     def before(self, item, inputs) -> bool:
         # two STXs that cross: each station decided to send before it heard the other (Fig. 2-8)
@@ -212,6 +238,10 @@ class Analyzer3964(ProcedureAnalyzer):
     def begins(self, byte: int) -> bool:
         return byte == STX
 
+    def event(self, run, e) -> None:
+        if isinstance(e, SendFailed) and e.code in (Code.LINE_BREAK, READINGS.a15_break_status_on_send, 0x1E0D):
+            run.memo["aborted"] = (e.payload, e.time)
+
     def startup(self, run, item, index: int):
         if item.kind == "byte" and item.value == NAK:
             seat = run.judge.seat
@@ -229,7 +259,7 @@ class Analyzer3964(ProcedureAnalyzer):
     def _payload(self, run, index: int) -> Any:
         """The data of the block the send job beginning with the STX ``obs[index]`` carries:
         read ahead on the line (see the module docstring). WAIT when the line has not shown it
-        yet."""
+        yet; None when the job ended without its block on the line."""
         j = run.judge
         a = j.analysis
         obs, inputs = j.obs, j.inputs
@@ -244,11 +274,11 @@ class Analyzer3964(ProcedureAnalyzer):
             if o is None and q is None:
                 if not a.complete and a.known_until - last < self._rest:
                     return WAIT
-                return best or b"\x00"
+                return best or None
             partner = o is None or (q is not None and q.t <= o.t)
             it = q if partner else o
             if it.t - last > self._rest:
-                return best or b"\x00"      # the job is over without a whole block
+                return best or None      # the job is over without a whole block
             last = it.t
             if partner:
                 k += 1
@@ -263,7 +293,7 @@ class Analyzer3964(ProcedureAnalyzer):
             i += 1
             if state == "setup":
                 if it.kind == "byte" and it.value == NAK:
-                    return best or b"\x00"  # the station gave up
+                    return best or None  # the station gave up
                 continue
             v = it.value if it.kind != "break" else 0
             if esc:
@@ -282,8 +312,8 @@ class Analyzer3964(ProcedureAnalyzer):
                 return bytes(data)
 
     # -- why the model sends what it sends ------------------------------------------------
-    def cause(self, host: Host, entry: Any, k: int, byte: int) -> Cause:
-        st = host.station
+    def cause(self, run, entry: Any, k: int, byte: int) -> Cause:
+        st = run.st
         seat = st.name
         p, q = self.params[seat], self.params[OTHER[seat]]
         c = p.char_time
@@ -298,13 +328,21 @@ class Analyzer3964(ProcedureAnalyzer):
         else:
             rule, ref, code = "the model's behaviour", "§2.2.2; Figs. 2-9 to 2-12", None
         if inp in _TIMERS:
-            dur = {T.T_ADT: p.adt, T.T_CDT: p.cdt, T.T_NAKTIM: T_NAKTIM, T.T_BLOCK: T_BLOCK}[inp]
+            dur = self._duration(p, inp)
+            rule = f"{rule} ({inp} = {1000 * dur:g} ms)"
             return Cause("timer", rule, ref, c + 0.05 * dur + 3e-6, self.late_abs + 0.25 * dur, code, name)
         if inp in _LOCAL:
             # revealed by the seat's own byte (exact), or the echo application's job
             late = self._rest if inp == T.SEND_REQUEST else self.late_abs
             return Cause("local", rule, ref, 3e-6, late, code, name)
         if T.Action.SETUP_ACKNOWLEDGED in actions:
+            job = st.job
+            if (self.apps[seat] == "echo" and job is not None
+                    and job.payload not in run.memo.get("requested", ())):
+                # a block the echo application sends back: the data the station delivered
+                rule = ("with the echo convention a station sends back the data it received, each doubled "
+                        "DLE taken once; " + rule)
+                ref = "§2.2.2 Receive/receiving data; Fig. 2-12 'dual DLE'; " + ref
             # the partner waits CDT for the first character after its DLE and between two
             return Cause("reply", rule, ref, 3e-6, q.cdt, code)
         if byte in (DLE, NAK) and any(x in actions for x in _ANSWER_STX + _ANSWER_BLOCK):
@@ -325,7 +363,7 @@ class Analyzer3964(ProcedureAnalyzer):
             return ("DLE of DLE ETX", "ETX of DLE ETX", f"the BCC {byte:02X}")[k - (n - n_end)]
         return f"byte {k + 1} of the block ({byte:02X})"
 
-    def unexpected(self, host: Host, item, later) -> Cause:
+    def unexpected(self, run, host: Host, item, later) -> Cause:
         st = host.station
         if item.kind == "break":
             return Cause("reply", *_BREAK_RULE, 0.0, 0.0, Code.LINE_BREAK)
@@ -333,11 +371,16 @@ class Analyzer3964(ProcedureAnalyzer):
             return Cause("reply", *_INVALID_RULE, 0.0, 0.0, Code.CHARACTER_ERROR)
         if later is not None and later[1] == item.value:
             return later[2]
-        if item.value == STX and st.state is T.IDLE and st.pending_jobs == 0:
+        inputs = run.judge.inputs
+        last = inputs[run.i_in - 1] if run.i_in else None
+        if last is not None and last.kind == "break" and item.start - last.t < self._rest:
+            return Cause("reply", *_AFTER_BREAK, 0.0, 0.0, Code.LINE_BREAK)
+        if item.value == STX and (run.judge.seat, run.i_obs) in self._unsendable:
             return Cause("reply", *_LEN_RULE, 0.0, 0.0, Code.LEN_ILLEGAL)
+        if (st.state is T.WAIT_SETUP_ACK and st.params.priority == "high" and item.value == DLE
+                and last is not None and last.kind == "byte" and last.value == STX):
+            return Cause("reply", *_HIGH_KEEPS, 0.0, 0.0)
         rule, ref = _STATE_RULES.get(st.state, ("the model's behaviour", "§2.2.2"))
-        if st.state is T.IDLE and item.value == STX and st.pending_jobs:
-            rule, ref = _STATE_RULES[T.IDLE]
         return Cause("reply", rule, ref, 0.0, 0.0)
 
     def name(self, byte: int) -> str:
