@@ -121,6 +121,8 @@ class ProcedureAnalyzer:
     back every block it receives; "none": what it sends is its own business)."""
 
     procedure: Any = None
+    #: where the manual describes the procedure (the reference of an exchange without findings)
+    reference: str = ""
 
     def __init__(self, procedure: Any, params: dict[str, Any], apps: dict[str, str] | None = None):
         self.procedure = procedure
@@ -597,6 +599,14 @@ class SeatRun:
                 # the recording ended before the byte was due: nothing to judge
                 self.failed = Finding(j.seat, p, R.INFORMATIONAL, "end", cause.rule, cause.reference,
                                       f"the recording ends before {name} was due")
+                return True
+            if o is not None and o.kind == "byte" and o.value == b:
+                self.failed = Finding(
+                    j.seat, o.t, R.FAIL, "late", cause.rule, cause.reference,
+                    f"{name} {1000 * (o.t - p):.3f} ms late (it may be {1000 * cause.late:.3f} ms late): "
+                    f"{cause.rule} ({cause.reference})",
+                    expected=f"{name} by {self._at(hi)}", observed=f"{name} at {self._at(o.t)}",
+                    window=(lo, hi), codes=codes)
                 return True
             got = "nothing" if o is None else f"{self._show(o)} only {1000 * (o.t - p):.3f} ms later"
             self.failed = Finding(
@@ -1295,9 +1305,10 @@ def exchange_cases(line: LineAnalysis, e: Exchange, seats: dict[str, str], sourc
     t0 = e.t0 - max(kit.char("a"), kit.char("b"))
     out = []
     if not e.findings:
-        c = R.CaseResult(base, label, "", "both stations follow the procedure" if line.judged else "not judged",
+        c = R.CaseResult(base, label, kit.reference,
+                         "both stations follow the procedure" if line.judged else "not judged",
                          "exchanges", "", verdict=R.PASS if line.judged else R.NOT_RUN)
-        c.expected_status = "; ".join(f"a CP 341 in seat {s} raises {raised[s]}" for s in line.judged) or "not judged"
+        c.expected_status = "; ".join(f"seat {s}: {raised[s]}" for s in line.judged) or "not judged"
         c.tester_status = c.expected_status
         c.transcript = _transcript(line, e, t0)
         c.params = proc.params_table(kit.params["b"])
@@ -1317,9 +1328,9 @@ def exchange_cases(line: LineAnalysis, e: Exchange, seats: dict[str, str], sourc
                                     None if f.window is None else (round(f.window[0] - t0, 6),
                                                                    round(f.window[1] - t0, 6)))
         other = OTHER[f.seat]
-        c.expected_status = f"a CP 341 in seat {f.seat} raises {raised[f.seat]}"
+        c.expected_status = f"{raised[f.seat]} (what a CP 341 in seat {f.seat} raises here)"
         c.expected_status_codes = [[f"16#{x:04X}"] for x in f.codes]
-        c.tester_status = (f"a CP 341 in seat {other} raises {raised[other]}" if other in line.judged
+        c.tester_status = (f"{raised[other]} (what a CP 341 in seat {other} raises here)" if other in line.judged
                            else f"seat {other} is not judged")
         c.readings = list(f.readings)
         c.transcript = _transcript(line, e, t0)

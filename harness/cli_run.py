@@ -22,6 +22,9 @@ def add_commands(sub) -> None:
     r.add_argument("--junit", metavar="PATH", help="write a JUnit XML file")
     r.add_argument("--json", metavar="PATH", help="write the results object as JSON")
     r.add_argument("--html", metavar="PATH", help="write the HTML report")
+    r.add_argument("--pcap", metavar="PATH",
+                   help="write the run's wire traffic as one capture (pcap, LINKTYPE_RTAC_SERIAL) for "
+                        "Wireshark and 'ptpcert analyze'")
     r.add_argument("--vectors", action="append", default=[], metavar="DIR",
                    help="a directory of vectors to run in addition to the bundled golden vectors (repeatable)")
     r.add_argument("--vectors-only", action="store_true",
@@ -163,8 +166,8 @@ def cmd_run(args) -> int:
         result.finished = _now()
         write_reports(result, args)
     print(rep.summary(result))
-    for kind in ("junit", "json", "html"):
-        if getattr(args, kind):
+    for kind in ("junit", "json", "html", "pcap"):
+        if getattr(args, kind, None):
             print(f"{kind}: {getattr(args, kind)}")
     if result.counts()[R.ERROR] and result.exit_status() == 0:
         return 2
@@ -187,6 +190,12 @@ def write_reports(result, args) -> None:
         write_html(result, args.html)
     if getattr(args, "junit", None):
         rep.write_junit(result, args.junit)
+    if getattr(args, "pcap", None):
+        from . import capture as C
+        try:
+            C.save(C.from_results(result), args.pcap, "pcap")
+        except C.CaptureError as exc:
+            print(f"ptpcert run: {exc}", file=sys.stderr)
 
 
 def _load_profile(cmd: str, path):

@@ -126,6 +126,8 @@ def _sentence(rule: str) -> str:
 class Analyzer3964(ProcedureAnalyzer):
     """Line analysis of a 3964/3964R link (see the module docstring)."""
 
+    reference = "§2.2.2; Figs. 2-5 to 2-12"
+
     def __init__(self, procedure: Any, params: dict[str, Any], apps: dict[str, str] | None = None,
                  late_ms: float = 50.0):
         super().__init__(procedure, params, apps)
@@ -200,7 +202,8 @@ class Analyzer3964(ProcedureAnalyzer):
                 self._unsendable[(seat, index)] = payload
                 return None
             return Explanation(lambda r, t, p=payload: self._request(r, t, p))
-        if b == NAK and st.idle and self._quiet(run, index):
+        if (b == NAK and self._quiet(run, index) and st.pending_jobs == 0 and not st.transmitting
+                and st.state in (T.IDLE, T.WAIT_REPETITION)):
             return Explanation(lambda r, t: r.replace_host(self.powered(seat, t)),
                                "restarted: its start-up NAK after a quiet line (Fig. 2-9)")
         if b == DLE and st.state is T.WAIT_BUFFER:
@@ -256,6 +259,12 @@ class Analyzer3964(ProcedureAnalyzer):
         p = self.params[seat]
         return 1 <= len(payload) <= codec.MAX_BLOCK and (p.data_bits == 8 or all(x <= 0x7F for x in payload))
 
+    @staticmethod
+    def _seen(best: bytes, data: bytearray) -> bytes | None:
+        """What the line showed of a block that never ended (None: nothing)."""
+        out = bytes(data) if len(data) > len(best) else best
+        return out or None
+
     def _payload(self, run, index: int) -> Any:
         """The data of the block the send job beginning with the STX ``obs[index]`` carries:
         read ahead on the line (see the module docstring). WAIT when the line has not shown it
@@ -267,6 +276,7 @@ class Analyzer3964(ProcedureAnalyzer):
         i, k = index + 1, a.index_at(inputs, stx.start)
         state, data, esc = "setup", bytearray(), False
         best = b""
+        interrupted = False
         last = stx.t
         while True:
             o = obs[i] if i < len(obs) else None
@@ -274,26 +284,27 @@ class Analyzer3964(ProcedureAnalyzer):
             if o is None and q is None:
                 if not a.complete and a.known_until - last < self._rest:
                     return WAIT
-                return best or None
+                return self._seen(best, data)
             partner = o is None or (q is not None and q.t <= o.t)
             it = q if partner else o
             if it.t - last > self._rest:
-                return best or None      # the job is over without a whole block
+                return self._seen(best, data)      # the job is over without a whole block
             last = it.t
             if partner:
                 k += 1
-                if state == "setup":
-                    if it.kind == "byte" and it.value == DLE:
-                        state, data, esc = "block", bytearray(), False
-                elif state == "block":
+                is_dle = it.kind == "byte" and it.value == DLE
+                if state == "setup" and is_dle or state == "block" and interrupted and is_dle:
+                    # the partner's DLE to (another) STX: the block follows
                     if len(data) > len(best):
                         best = bytes(data)
-                    state = "setup"     # the partner interrupted the block: a new attempt follows
+                    state, data, esc, interrupted = "block", bytearray(), False, False
+                elif state == "block":
+                    interrupted = True  # a station may go on (or try again with STX: then a DLE follows)
                 continue
             i += 1
             if state == "setup":
                 if it.kind == "byte" and it.value == NAK:
-                    return best or None  # the station gave up
+                    return self._seen(best, data)  # the station gave up
                 continue
             v = it.value if it.kind != "break" else 0
             if esc:
