@@ -282,6 +282,9 @@ class SeatRun:
         self.i_in, self.i_obs = i_in, i_obs
         self.variant = variant
         self.shift = variant.shift if variant is not None else 0.0
+        #: the shift applies to the other seat's characters up to here (the difference an
+        #: alternative is to explain); later ones keep their times
+        self.shift_until = inf
         self.expect_startup = expect_startup
         self.failed: Finding | None = None
         # provisional until the next rest point (a later difference may replace them)
@@ -352,8 +355,13 @@ class SeatRun:
         rest after ``rest_after``), "wait" (the procedure must see more of the line) or
         "until"."""
         inputs, obs = self.judge.inputs, self.judge.obs
-        shift = self.shift
         kit = self.kit
+        until_shift = self.shift_until
+        shift_ = self.shift
+
+        def at(it: Item) -> float:
+            return it.t + shift_ if it.t <= until_shift else it.t
+
         flags = self.flags
         while True:
             if self._held:
@@ -364,7 +372,7 @@ class SeatRun:
                 return "rest"
             st = self.st
             n_in = len(inputs)
-            t_in = inputs[self.i_in].t + shift if self.i_in < n_in else inf
+            t_in = at(inputs[self.i_in]) if self.i_in < n_in else inf
             d = st.next_deadline()
             t_dl = inf if d is None else d
             # the next event of the seat's own next byte (see _obs_time)
@@ -396,11 +404,11 @@ class SeatRun:
                     continue
                 idx = self.i_obs
                 k = self.i_in
-                while k < n_in and inputs[k].t + shift <= o.start + QUANTUM:
+                while k < n_in and at(inputs[k]) <= o.start + QUANTUM:
                     k += 1
                 if k > self.i_in and not kit.before(o, inputs[self.i_in:k]):
                     self.stage = 1      # the other seat's characters of the same instant came first
-                    self._tied = inputs[k - 1].t + shift
+                    self._tied = at(inputs[k - 1])
                     continue
                 if self._explain(idx, o, t) is WAIT:
                     return "wait"
@@ -410,7 +418,7 @@ class SeatRun:
                     self.stage, self._tied = 1, -inf
                 continue
             if t_in == t:
-                while self.i_in < n_in and inputs[self.i_in].t + shift <= t:
+                while self.i_in < n_in and at(inputs[self.i_in]) <= t:
                     it = inputs[self.i_in]
                     self.i_in += 1
                     if it.chunk not in flags:
@@ -600,9 +608,10 @@ class SeatRun:
                 self.failed = Finding(j.seat, p, R.INFORMATIONAL, "end", cause.rule, cause.reference,
                                       f"the recording ends before {name} was due")
                 return True
-            if o is not None and o.kind == "byte" and o.value == b:
+            if o is not None and o.kind == "byte" and o.value == b and o.t - hi < j.analysis.rest:
+                # (what a live analysis, deciding when the window closes, calls missing)
                 self.failed = Finding(
-                    j.seat, o.t, R.FAIL, "late", cause.rule, cause.reference,
+                    j.seat, p, R.FAIL, "missing", cause.rule, cause.reference,
                     f"{name} {1000 * (o.t - p):.3f} ms late (it may be {1000 * cause.late:.3f} ms late): "
                     f"{cause.rule} ({cause.reference})",
                     expected=f"{name} by {self._at(hi)}", observed=f"{name} at {self._at(o.t)}",
@@ -736,6 +745,8 @@ class SeatJudge:
         self.settled = max(self.settled, min(k_in, k_obs))
 
     def _emit(self, f: Finding) -> None:
+        if self.seat not in self.analysis.judged:
+            return
         f = self.analysis.graded(f)
         self.findings.append(f)
         self.analysis.found(f)
@@ -837,10 +848,13 @@ class SeatJudge:
         self.failing = run
         t_r, i_in, i_obs, startup, memo = run.rest
         self.candidates = []
+        if self.seat not in self.analysis.judged:
+            return      # followed for its STATUS events only: no alternatives
         for v in self.kit.variants(self.seat, self.analysis.resolution):
             host = self.kit.fresh(self.seat, t_r, v.readings)
             cand = SeatRun(self, host, t_r, i_in, i_obs, variant=v, expect_startup=startup)
             cand.memo = dict(memo)
+            cand.shift_until = run.failed.t
             self.candidates.append(cand)
 
     def _decide(self, until: float, final: bool) -> bool:
@@ -942,7 +956,9 @@ class LineAnalysis:
         self.rest = kit.rest_gap() + self.resolution
         self.horizon = 4 * self.rest + 1.0
         self.first_quiet: float | None = None
-        self.judges = {s: SeatJudge(self, s) for s in self.judged}
+        # both seats' stations are followed (what a CP 341 in each seat raises is part of every
+        # finding); only the judged seats' differences are findings
+        self.judges = {s: SeatJudge(self, s) for s in SEATS}
         self._done_until = -inf
         self.exchanges: list[Exchange] = []
         self._open: Exchange | None = None
@@ -1138,10 +1154,10 @@ class LineAnalysis:
             return True
         if self.chunks[k].t - self.chunks[p].t >= self.rest:
             return True
-        if not self.judges:
+        if not self.judged:
             return False
-        for j in self.judges.values():
-            f = j.flag(k)
+        for s in self.judged:
+            f = self.judges[s].flag(k)
             if f is None:
                 return None
             if f is not True:
@@ -1168,7 +1184,7 @@ class LineAnalysis:
         e = self._open
         if e is not None and (final or (self._next_chunk >= len(chunks) and until - e.t1 >= self.rest
                                         and all(j.settled >= len(chunks) or j.run is None
-                                                for j in self.judges.values()))):
+                                                for j in map(self.judges.get, self.judged)))):
             self._finish_open()
 
     def _finish_open(self) -> None:
@@ -1330,8 +1346,7 @@ def exchange_cases(line: LineAnalysis, e: Exchange, seats: dict[str, str], sourc
         other = OTHER[f.seat]
         c.expected_status = f"{raised[f.seat]} (what a CP 341 in seat {f.seat} raises here)"
         c.expected_status_codes = [[f"16#{x:04X}"] for x in f.codes]
-        c.tester_status = (f"{raised[other]} (what a CP 341 in seat {other} raises here)" if other in line.judged
-                           else f"seat {other} is not judged")
+        c.tester_status = f"{raised[other]} (what a CP 341 in seat {other} raises here)"
         c.readings = list(f.readings)
         c.transcript = _transcript(line, e, t0)
         if f.window is not None:
