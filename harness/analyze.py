@@ -184,6 +184,13 @@ class ProcedureAnalyzer:
         """Does a station's ``byte``, sent for a local event, begin an exchange (e.g. STX)?"""
         return False
 
+    def resync_at(self, line: "LineAnalysis", k: int) -> int | None:
+        """Where the line never goes quiet: does an exchange with both stations at rest begin
+        in chunk ``k``, as its bytes and those before it show (a seat that is not followed
+        any more is followed again from there)? The index of its first item in the chunk, or
+        None."""
+        return None
+
     def startup(self, run: "SeatRun", item: "Item", index: int) -> Explanation | None:
         """The seat was switched on (a case of a restarting IUT began): its first ``item`` is
         its start-up output, or None when it is not."""
@@ -280,6 +287,7 @@ class SeatRun:
         self.st = host.station
         self.t0 = self.now = t0
         self.i_in, self.i_obs = i_in, i_obs
+        self.start_pos = (i_in, i_obs)
         self.variant = variant
         self.shift = variant.shift if variant is not None else 0.0
         #: the shift applies to the other seat's characters up to here (the difference an
@@ -721,10 +729,15 @@ class SeatJudge:
         self.settled = 0
         self.lost_at: float | None = -inf      # not following: since when (-inf: not started)
         self.resets_done = 0
+        #: the model has been seen at rest after taking part in the line (or began where the
+        #: line was quiet, or at a case mark): its findings are not the recording's start
+        self.anchored = False
 
     # -- provisional results become final at rest points ----------------------------------
     def committed(self, run: SeatRun) -> None:
         if run is self.run:
+            if not self.anchored and (run.i_in, run.i_obs) != run.start_pos:
+                self.anchored = True
             self._take(run)
 
     def _take(self, run: SeatRun) -> None:
@@ -747,7 +760,7 @@ class SeatJudge:
     def _emit(self, f: Finding) -> None:
         if self.seat not in self.analysis.judged:
             return
-        f = self.analysis.graded(f)
+        f = self.analysis.graded(f, self.anchored)
         self.findings.append(f)
         self.analysis.found(f)
 
@@ -825,22 +838,29 @@ class SeatJudge:
         i_obs = self.analysis.index_of_chunk(self.obs, chunk)
         self.run = SeatRun(self, self.kit.fresh(self.seat, t), t, i_in, i_obs, expect_startup=self.seat in power)
         self.lost_at = None
+        self.anchored = True
 
     def _resume(self, until: float) -> bool:
         """Not following the seat: start again where the line has been quiet long enough."""
         a = self.analysis
-        k = a.resync_chunk(self.lost_at)
-        if k is None:
+        found = a.resync_chunk(self.lost_at)
+        if found is None:
             return False
-        t0 = a.chunk_start(k) - 2 * self.kit.char(self.seat) - 1e-6
-        if k > 0:
-            t0 = max(t0, a.chunks[k - 1].t + _EPS)
+        k, j = found
+        seat_k = a.chunks[k].seat
+        first = a._chunk_items[k][0] + j
+        start = a.items[seat_k][first].start
+        t0 = start - 2 * self.kit.char(self.seat) - 1e-6
+        prev = a.items[seat_k][first - 1].t if j else (a.chunks[k - 1].t if k > 0 else -inf)
+        t0 = max(t0, prev + _EPS)
         if t0 > until:
             return False
-        self.settled = max(self.settled, k)
-        i_in = a.index_of_chunk(self.inputs, k)
-        i_obs = a.index_of_chunk(self.obs, k)
+        self.settled = max(self.settled, k + (1 if j else 0))
+        i_in = a.index_of_chunk(self.inputs, k) + (j if seat_k != self.seat else 0)
+        i_obs = a.index_of_chunk(self.obs, k) + (j if seat_k == self.seat else 0)
         self.run = SeatRun(self, self.kit.fresh(self.seat, t0), t0, i_in, i_obs)
+        if k > 0 or a.chunks[0].t >= a.rest:
+            self.anchored = True    # after a quiet line every conforming station is at rest
         self.lost_at = None
         return True
 
@@ -955,11 +975,11 @@ class LineAnalysis:
         self.known_until = -inf
         self.rest = kit.rest_gap() + self.resolution
         self.horizon = 4 * self.rest + 1.0
-        self.first_quiet: float | None = None
         # both seats' stations are followed (what a CP 341 in each seat raises is part of every
         # finding); only the judged seats' differences are findings
         self.judges = {s: SeatJudge(self, s) for s in SEATS}
         self._done_until = -inf
+        self._resync_from: dict[float, int] = {}
         self.exchanges: list[Exchange] = []
         self._open: Exchange | None = None
         self._next_chunk = 0
@@ -1001,10 +1021,6 @@ class LineAnalysis:
             self.gaps.append((chunk.t, seat, chunk.condition.value))
         self._chunk_items.append((first, len(items) - first))
         self._last_with_items.append(prev_k)
-        if self.first_quiet is None and len(items) > first:
-            gap = chunk.t if prev_k < 0 else chunk.t - self.chunks[prev_k].t
-            if gap >= self.rest:
-                self.first_quiet = self.chunk_start(k) - _EPS
 
     def mark(self, m: C.Mark) -> None:
         """A mark of the capture: a case of a run begins ("case ID ..."), or a station is
@@ -1021,8 +1037,6 @@ class LineAnalysis:
         else:
             return
         self._reset_chunks.append(k)
-        if self.first_quiet is None:
-            self.first_quiet = m.t
 
     def next_reset(self, done: int):
         return self.resets[done] if done < len(self.resets) else None
@@ -1059,17 +1073,42 @@ class LineAnalysis:
         p = self._last_with_items[item.chunk]
         return inf if p < 0 else item.start - self.chunks[p].t
 
-    def resync_chunk(self, since: float | None) -> int | None:
-        """The first chunk after ``since`` that follows a quiet line (or begins the capture)."""
+    def resync_chunk(self, since: float | None) -> tuple[int, int] | None:
+        """Where to follow a seat again after ``since``: the first chunk that follows a quiet
+        line (or begins the capture), or where the procedure sees an exchange begin with both
+        stations at rest. (chunk, index of the item in it)."""
         if since is None or since == inf:
             return None
-        for k in range(self._first_after(since), len(self.chunks)):
+        # a chunk's answer depends only on it and the chunks before it: a search that found
+        # nothing goes on from where it stopped (a busy line is not scanned anew at every step)
+        start = max(self._first_after(since), self._resync_from.get(since, 0))
+        for k in range(start, len(self.chunks)):
             if not self._chunk_items[k][1]:
                 continue
             p = self._last_with_items[k]
             if since == -inf or p < 0 or self.chunks[k].t - self.chunks[p].t >= self.rest:
-                return k
+                self._resync_from[since] = k
+                return k, 0
+            j = self.kit.resync_at(self, k)
+            if j is not None:
+                self._resync_from[since] = k
+                return k, j
+        self._resync_from[since] = len(self.chunks)
         return None
+
+    def before(self, k: int, n: int, within: int = 0) -> list[tuple[str, Item]]:
+        """The last ``n`` items of the line before chunk ``k`` (both seats, in time order), or
+        before its item ``within``."""
+        first, m = self._chunk_items[k]
+        seat = self.chunks[k].seat
+        out: list[tuple[str, Item]] = [(seat, it) for it in self.items[seat][first:first + within]]
+        j = k - 1
+        while j >= 0 and len(out) < n:
+            first, m = self._chunk_items[j]
+            seat = self.chunks[j].seat
+            out[:0] = [(seat, it) for it in self.items[seat][first:first + m]]
+            j -= 1
+        return out[-n:]
 
     def _first_after(self, t: float) -> int:
         if t == -inf:
@@ -1113,10 +1152,10 @@ class LineAnalysis:
         self._segment(inf, final=True)
 
     # -- findings -------------------------------------------------------------------------
-    def graded(self, f: Finding) -> Finding:
+    def graded(self, f: Finding, anchored: bool = True) -> Finding:
         """A finding that the recording itself may explain is informational: near a place
-        where it lost data, or before the line was first seen quiet (the recording may have
-        begun inside an exchange)."""
+        where it lost data, or before the seat's model was first seen at rest after the
+        recording began (it may have begun inside an exchange, which the model joined at rest)."""
         if f.grade != R.FAIL:
             return f
         near = [g for g in self.gaps if abs(g[0] - f.t) <= self.rest]
@@ -1124,10 +1163,10 @@ class LineAnalysis:
             f.grade = R.INFORMATIONAL
             f.notes.append(f"the recording lost data {1000 * (near[0][0] - f.t):+.3f} ms from here "
                            f"({near[0][2]} on seat {near[0][1]}'s line): the model may have missed a character")
-        elif self.first_quiet is None or f.t < self.first_quiet:
+        elif not anchored:
             f.grade = R.INFORMATIONAL
-            f.notes.append("before this the line was never seen quiet: the recording may have begun inside "
-                           "an exchange, which the model then joined at rest")
+            f.notes.append("the model had not yet been seen at rest since the recording began: the recording may "
+                           "have begun inside an exchange, which the model joined at rest")
         return f
 
     def found(self, f: Finding) -> None:

@@ -53,12 +53,15 @@ def add_commands(sub) -> None:
     m.add_argument("--parmrk", action="store_true",
                    help="the ports mark line conditions as termios PARMRK does (a real UART is told to; on a "
                         "pseudo-terminal the writer marks them)")
+    m.add_argument("--fifo", type=int, default=8, metavar="CHARS",
+                   help="how many characters the port's receiver may collect before it hands them over "
+                        "(default 8: a 16550A UART's receive trigger; its 4-character timeout is less; 1: "
+                        "a pseudo-terminal)")
     m.add_argument("--latency-ms", type=float, default=2.0, metavar="MS",
-                   help="how long the port's driver may hold a character before a read returns it, on top of "
-                        "a UART's receive timeout of 4 character times (default 2; a USB adapter: its latency "
-                        "timer, e.g. 16)")
+                   help="how long the driver may hold what the receiver handed over before a read returns it "
+                        "(default 2; a USB adapter: its latency timer, 16 unless set lower, plus 1)")
     m.add_argument("--resolution-ms", type=float, default=None, metavar="MS",
-                   help="the timing resolution itself (default: 4 character times + --latency-ms)")
+                   help="the timing resolution itself (default: --fifo character times + --latency-ms)")
     m.add_argument("--duration", type=float, default=None, metavar="SECONDS", help="stop after this long")
     m.set_defaults(func=cmd_monitor)
 
@@ -249,11 +252,12 @@ def cmd_analyze(args) -> int:
 # ------------------------------------------------------------------ monitor
 
 
-def resolution_for(line, latency: float) -> float:
-    """The timing resolution of timestamps taken when a port's read returns: a UART hands a
-    lone character over after its receive timeout (about 4 character times after its stop
-    bit), and the driver may hold it ``latency`` seconds more."""
-    return 4 * line.char_time + latency
+def resolution_for(line, latency: float, fifo: int = 8) -> float:
+    """The timing resolution of timestamps taken when a port's read returns: a UART hands
+    characters over when ``fifo`` of them are in its receive FIFO (a lone one after its
+    receive timeout, about 4 character times), and the driver may hold them ``latency``
+    seconds more."""
+    return max(fifo, 1) * line.char_time + latency
 
 
 def cmd_monitor(args) -> int:
@@ -270,7 +274,7 @@ def cmd_monitor(args) -> int:
         return 2
     line_b = setup.proc.line(setup.params["b"])
     resolution = (args.resolution_ms / 1000.0 if args.resolution_ms is not None
-                  else resolution_for(line_b, args.latency_ms / 1000.0))
+                  else resolution_for(line_b, args.latency_ms / 1000.0, args.fifo))
     started = dt.datetime.now(dt.timezone.utc)
     path = args.capture or f"monitor-{started.strftime('%Y%m%dT%H%M%SZ')}.pcap"
     try:
@@ -305,7 +309,8 @@ def cmd_monitor(args) -> int:
     try:
         with open(path, "wb" if fmt == "pcap" else "w", **({} if fmt == "pcap" else {"encoding": "utf-8"})) as fp:
             writer = C.PcapWriter(fp, started) if fmt == "pcap" else C.HexLogWriter(fp, meta)
-            end = mon.run(line, writer, stop=lambda: bool(interrupted), duration=args.duration)
+            end = mon.run(line, writer, stop=lambda: bool(interrupted), duration=args.duration,
+                          resolution=resolution)
             writer.close(end)
     except OSError as exc:
         print(f"ptpcert monitor: {path}: {exc.strerror}", file=sys.stderr)
@@ -321,5 +326,8 @@ def cmd_monitor(args) -> int:
                           notes=[f"timing resolution {resolution * 1000:.3f} ms (timestamps taken when a read returned)"])
     result.iut = f"seat a: {args.a}, seat b: {args.b}"
     result.profile_path = f"seat a: {setup.paths['a']}; seat b: {setup.paths['b']}"
+    if mon.stalls:
+        print(f"ptpcert monitor: {mon.stalls} time(s) the monitor was not scheduled in time: the timing of what "
+              "came in meanwhile is lost (marked in the capture; findings there are informational)")
     print(f"\n{listener.exchanges} exchanges, {end:.1f} s watched; capture: {path}")
     return _finish(result, args, t0)

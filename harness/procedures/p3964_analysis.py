@@ -245,6 +245,35 @@ class Analyzer3964(ProcedureAnalyzer):
         if isinstance(e, SendFailed) and e.code in (Code.LINE_BREAK, READINGS.a15_break_status_on_send, 0x1E0D):
             run.memo["aborted"] = (e.payload, e.time)
 
+    def resync_at(self, line, k: int) -> int | None:
+        """An STX right after a block was acknowledged: the end of one seat's block (DLE ETX,
+        for 3964R the BCC after it; a run of DLEs before the ETX odd, so not data), the other
+        seat's DLE, and nothing else before the STX."""
+        first, n = line._chunk_items[k]
+        seat = line.chunks[k].seat
+        for j, it in enumerate(line.items[seat][first:first + n]):
+            if it.kind == "byte" and it.value == STX and self._after_release(line.before(k, 8, j)):
+                return j
+        return None
+
+    def _after_release(self, prev) -> bool:
+        if not prev or prev[-1][1].kind != "byte" or prev[-1][1].value != DLE:
+            return False
+        acker = prev[-1][0]
+        block = []
+        for s, x in reversed(prev[:-1]):
+            if s == acker:
+                break
+            block.insert(0, x)
+        sender = "b" if acker == "a" else "a"
+        tail = 1 if self.params[sender].has_bcc else 0
+        data = bytes(x.value for x in block if x.kind == "byte")
+        body = data[:len(data) - tail] if tail else data
+        if len(body) < 2 or body[-2:] != bytes((DLE, ETX)):
+            return False
+        run = len(body) - 1 - len(body[:-1].rstrip(bytes((DLE,))))
+        return run % 2 == 1
+
     def startup(self, run, item, index: int):
         if item.kind == "byte" and item.value == NAK:
             seat = run.judge.seat
@@ -268,44 +297,47 @@ class Analyzer3964(ProcedureAnalyzer):
     def _payload(self, run, index: int) -> Any:
         """The data of the block the send job beginning with the STX ``obs[index]`` carries:
         read ahead on the line (see the module docstring). WAIT when the line has not shown it
-        yet; None when the job ended without its block on the line."""
+        yet; None when the job ended without its block on the line.
+
+        The block is read from the station's own characters: after its STX come further STXs
+        (new attempts), a NAK (it gave up), or what it answers as a receiver when the partner's
+        STX crossed its own, until the partner answers its latest STX with DLE; then the
+        block, back to back, up to DLE ETX. A pause in the block longer than the partner waits
+        (CDT) means the block was cut off and a new attempt follows."""
         j = run.judge
         a = j.analysis
         obs, inputs = j.obs, j.inputs
+        seat = j.seat
+        r = a.resolution
+        gap_max = self.params[OTHER[seat]].cdt + 2 * self.char(seat) + r
         stx = obs[index]
-        i, k = index + 1, a.index_at(inputs, stx.start)
-        state, data, esc = "setup", bytearray(), False
-        best = b""
-        interrupted = False
-        last = stx.t
+        state, data, esc, best = "setup", bytearray(), False, b""
+        last = last_stx = stx.t
+        i = index + 1
         while True:
-            o = obs[i] if i < len(obs) else None
-            q = inputs[k] if k < len(inputs) else None
-            if o is None and q is None:
+            if i >= len(obs):
                 if not a.complete and a.known_until - last < self._rest:
                     return WAIT
                 return self._seen(best, data)
-            partner = o is None or (q is not None and q.t <= o.t)
-            it = q if partner else o
-            if it.t - last > self._rest:
-                return self._seen(best, data)      # the job is over without a whole block
-            last = it.t
-            if partner:
-                k += 1
-                is_dle = it.kind == "byte" and it.value == DLE
-                if state == "setup" and is_dle or state == "block" and interrupted and is_dle:
-                    # the partner's DLE to (another) STX: the block follows
-                    if len(data) > len(best):
-                        best = bytes(data)
-                    state, data, esc, interrupted = "block", bytearray(), False, False
-                elif state == "block":
-                    interrupted = True  # a station may go on (or try again with STX: then a DLE follows)
-                continue
-            i += 1
+            it = obs[i]
+            gap = it.t - last
+            if state == "block" and gap > gap_max:
+                if len(data) > len(best):
+                    best = bytes(data)       # cut off: a new attempt follows
+                state = "setup"
             if state == "setup":
-                if it.kind == "byte" and it.value == NAK:
-                    return self._seen(best, data)  # the station gave up
-                continue
+                if gap > self._rest:
+                    return self._seen(best, data)   # the job is over without a whole block
+                first = self._partner_first(inputs, last_stx, r, it.t + r, self.char(OTHER[seat]))
+                v = it.value if it.kind == "byte" else None
+                if first != DLE:
+                    if v == STX:
+                        last_stx = it.t                 # another attempt
+                    elif v == NAK and first is None:
+                        return self._seen(best, data)   # the station gave up
+                    last, i = it.t, i + 1               # (or answered the partner's STX)
+                    continue
+                state, data, esc = "block", bytearray(), False
             v = it.value if it.kind != "break" else 0
             if esc:
                 esc = False
@@ -321,6 +353,37 @@ class Analyzer3964(ProcedureAnalyzer):
                 data.append(v)
             if len(data) > 4 * codec.MAX_BLOCK:
                 return bytes(data)
+            last, i = it.t, i + 1
+
+    @staticmethod
+    def _partner_first(inputs, t0: float, r: float, t1: float, c: float) -> int | None:
+        """The partner's answer to the STX the station sent at ``t0``, if it came by ``t1``:
+        its first character after it, passing over an STX that crossed ours (after which a
+        low-priority partner answers with DLE); failing that, within the resolution ``r``
+        before ``t0``, the one closest to it. -1: a line condition; after a crossing STX, a DLE
+        doubled (the first data byte of the high-priority partner's own block: the second
+        right after it, ``c`` being a character time) is no answer."""
+        lo, hi = 0, len(inputs)
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if inputs[mid].t <= t0:         # an STX complete at the same instant crossed it
+                lo = mid + 1
+            else:
+                hi = mid
+        crossed = lo < len(inputs) and inputs[lo].kind == "byte" and inputs[lo].value == STX
+        if crossed:
+            lo += 1
+        if lo < len(inputs) and inputs[lo].t <= t1:
+            x = inputs[lo]
+            if (crossed and x.kind == "byte" and x.value == DLE and lo + 1 < len(inputs)
+                    and inputs[lo + 1].kind == "byte" and inputs[lo + 1].value == DLE
+                    and inputs[lo + 1].t - x.t <= c + r + 1e-4):
+                return -1
+        elif lo > 0 and inputs[lo - 1].t > t0 - r:
+            x = inputs[lo - 1]
+        else:
+            return None
+        return x.value if x.kind == "byte" else -1
 
     # -- why the model sends what it sends ------------------------------------------------
     def cause(self, run, entry: Any, k: int, byte: int) -> Cause:
