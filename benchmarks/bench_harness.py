@@ -32,6 +32,7 @@ from contextlib import ExitStack, contextmanager
 from dataclasses import replace
 from pathlib import Path
 
+from ptpcert.results import wire_events
 from ptpcert.runner import RunOptions, Runner, realtime_tolerance
 from ptpcert.scenario import Expr, Step, Vector
 from ptpcert.transport import make_factory
@@ -84,7 +85,7 @@ def precision(scheme: str, samples: int) -> tuple[dict[str, list[float]], str]:
             url = f"{scheme}://127.0.0.1:{port}"
         factory = make_factory(url, profile, prespawn=0)
         # a late stimulus must be measured, not void the case: no stimulus limit here
-        tol = replace(realtime_tolerance(profile.params), stimulus=3600.0)
+        tol = replace(realtime_tolerance(profile.procedure, profile.params), stimulus=3600.0)
         runner = Runner(factory, profile, RunOptions(tolerance=tol, timing_retries=0, confirm_late=False,
                                                      echo=False, check_status=False))
         res = runner.run_case(v)
@@ -92,14 +93,15 @@ def precision(scheme: str, samples: int) -> tuple[dict[str, list[float]], str]:
     rows = [tuple(map(float, line.split()[:3])) for line in log.read_text().splitlines()]
     log.unlink()
     char = profile.params.char_time
-    sent = [e for e in res.transcript if e.get("kind") == "byte" and e["dir"] == "tester"]
+    wire = wire_events(res.transcript)
+    sent = [t for t, d, kind, _, _ in wire if kind == "byte" and d == "tester"]
     # the peer's start-up NAK is lost on a persistent line (no client yet) or read before the steps
-    echoes = [e for e in res.transcript if e.get("kind") == "byte" and e["dir"] == "iut" and e["byte"] in (0x41, 0x42)]
+    echoes = [t for t, d, kind, b, _ in wire if kind == "byte" and d == "iut" and b in (0x41, 0x42)]
     n = min(len(rows), len(echoes), len(sent)) // 2 * 2
     return {
-        "send latency": [(rows[k][0] - (res.origin + sent[k]["t"])) * 1000 for k in range(n)],
+        "send latency": [(rows[k][0] - (res.origin + sent[k])) * 1000 for k in range(n)],
         "injected gap": [((rows[k + 1][0] - rows[k][0]) - (GAP_MS / 1000 + char)) * 1000 for k in range(0, n, 2)],
-        "arrival stamp": [((res.origin + echoes[k]["t"]) - rows[k][1]) * 1000 for k in range(n)],
+        "arrival stamp": [((res.origin + echoes[k]) - rows[k][1]) * 1000 for k in range(n)],
     }, f"{res.verdict}, {n} bytes"
 
 

@@ -4,6 +4,7 @@ caught it. Prints figures; asserts nothing.
     python benchmarks/kill_matrix.py                 # the mutants, in virtual time (sim:)
     python benchmarks/kill_matrix.py --exec          # the mutants as real processes (ptpcert iut --mutant)
     python benchmarks/kill_matrix.py --independent   # the independent implementation's broken variants
+    python benchmarks/kill_matrix.py --procedure RK512 [--exec]   # the RK 512 variants
 
 Each variant runs with the profile its broken rule needs (e.g. priority high for a priority
 bug), at the shortest legal timers.
@@ -28,6 +29,7 @@ from ptpcert.transport import make_factory
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable
 INDEPENDENT = ROOT / "tests" / "independent" / "iut3964.py"
+sys.path.insert(0, str(ROOT / "tests"))
 
 
 def run(url: str, profile) -> R.RunResult:
@@ -42,7 +44,23 @@ def run(url: str, profile) -> R.RunResult:
     return res
 
 
+def rk512_variants(args):
+    """The RK 512 variants: the suite's profile with every role, set-up and area; over exec:
+    with timers a loaded machine can keep (the tester answers the IUT's STX within its ADT)."""
+    from ptpcert.procedures import by_id
+    from ptpcert.profile import profile_from_dict
+    from rk512_profiles import iut_command, rk_profile_dict
+
+    for name, m in by_id("rk512").mutants().items():
+        raw = rk_profile_dict(**m.profile, **(dict(cdt=100, adt=100, t_res=1000) if args.exec else {}))
+        url = iut_command(raw, mutant=name) if args.exec else f"sim:?mutant={name}"
+        yield name, m.rule, url, profile_from_dict(raw)
+
+
 def variants(args):
+    if args.procedure == "RK512":
+        yield from rk512_variants(args)
+        return
     if args.independent:
         names = subprocess.run([PY, str(INDEPENDENT), "--list-breaks"], capture_output=True, text=True).stdout.split("\n")
         for line in names:
@@ -68,6 +86,8 @@ def main() -> None:
     ap.add_argument("--exec", action="store_true", help="run the mutants as real processes over exec:")
     ap.add_argument("--independent", action="store_true", help="the independent implementation's variants")
     ap.add_argument("--only", nargs="*", help="only these variant names")
+    ap.add_argument("--procedure", choices=["3964R", "RK512"], default="3964R",
+                    help="the procedure whose variants run (default 3964R)")
     args = ap.parse_args()
     t0 = time.monotonic()
     missed = []

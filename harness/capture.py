@@ -540,6 +540,11 @@ def from_transcript(transcript: Iterable[dict[str, Any]], *, seats: dict[str, st
 
 def _transcript_items(tr: list[dict[str, Any]], offset: float,
                       source: str) -> tuple[list[Chunk], list[Mark], float | None]:
+    from .results import unpack_transcript   # results.json keeps bytes as runs (schema 2)
+    try:
+        tr = unpack_transcript(tr)
+    except (TypeError, ValueError, KeyError, AttributeError) as exc:
+        raise CaptureError(f"a transcript run cannot be read ({exc})", source) from None
     dirs = {"tester": "a", "iut": "b", "a": "a", "b": "b"}
     wire: list[tuple[float, int, dict]] = []
     marks: list[Mark] = []

@@ -163,11 +163,13 @@ def _finish(result, args, t0: float) -> int:
     result.finished = _now()
     if args.html:
         result.html_path = args.html
-    write_reports(result, args)
+    written = write_reports(result, args, args.command)
     print(rep.summary(result).replace(" cases in ", " results in "))
     for kind in ("junit", "json", "html"):
-        if getattr(args, kind):
+        if getattr(args, kind) and kind in written:
             print(f"{kind}: {getattr(args, kind)}")
+    if len(written) < sum(bool(getattr(args, k)) for k in ("junit", "json", "html")):
+        return 2
     if result.counts()[R.ERROR] and result.exit_status() == 0:
         return 2
     return result.exit_status()

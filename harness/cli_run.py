@@ -3,11 +3,20 @@
 from __future__ import annotations
 
 import datetime as _dt
+import os
 import signal
 import sys
-from pathlib import Path
 
 from . import __version__
+from .cli import number
+
+#: the bounds of the numeric options (the messages name them)
+TOLERANCE_MS = number(float, 0, 10_000, "milliseconds")
+STARTUP_S = number(float, 0.1, 600, "seconds")
+MAX_FAILURES = number(int, 0, None, "(0: no limit)")
+EDGE_ATTEMPTS = number(int, 1, 100)
+BUDGET_S = number(float, 1, 7 * 24 * 3600, "seconds")
+MAX_ACTIONS = number(int, 1, 100)
 
 
 def add_commands(sub) -> None:
@@ -29,14 +38,14 @@ def add_commands(sub) -> None:
                    help="a directory of vectors to run in addition to the bundled golden vectors (repeatable)")
     r.add_argument("--vectors-only", action="store_true",
                    help="run only vectors, not the generated suite: those of --vectors, or the bundled ones")
-    r.add_argument("--tolerance-ms", type=float, default=50.0,
-                   help="how late a reply may be beyond its window, plus 25%% of the window (default 50)")
-    r.add_argument("--startup-timeout", type=float, default=2.0,
-                   help="seconds a freshly started IUT may take before its start-up NAK (default 2)")
-    r.add_argument("--edge-attempts", type=int, default=4, metavar="N",
+    r.add_argument("--tolerance-ms", type=TOLERANCE_MS, default=50.0,
+                   help="how late a reply may be beyond its window, plus 25%% of the window (default 50; 0 to 10000)")
+    r.add_argument("--startup-timeout", type=STARTUP_S, default=2.0,
+                   help="seconds a freshly started IUT may take before its start-up NAK (default 2; 0.1 to 600)")
+    r.add_argument("--edge-attempts", type=EDGE_ATTEMPTS, default=4, metavar="N",
                    help="attempts in all before a failure of a case close to a timer's edge stands; it passes "
-                        "if one attempt passes (default 4; 1: every failure stands)")
-    r.add_argument("--max-failures", type=int, default=0, metavar="N",
+                        "if one attempt passes (default 4; 1: every failure stands; at most 100)")
+    r.add_argument("--max-failures", type=MAX_FAILURES, default=0, metavar="N",
                    help="stop after N failed cases (the rest are reported as not run)")
     r.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     r.set_defaults(func=cmd_run)
@@ -55,7 +64,8 @@ def add_commands(sub) -> None:
     i.add_argument("--parmrk", action="store_true",
                    help="the input marks line conditions as termios PARMRK does (FF 00 00 BREAK, FF 00 xx error, FF FF data FF)")
     i.add_argument("--port", metavar="URL", help="use this serial port (pyserial URL or device) instead of stdin/stdout")
-    i.add_argument("--app", default="echo", help="what to do with received data: echo (default) or none")
+    i.add_argument("--app", default=None,
+                   help="the application: 3964/3964R: echo (default) or none; RK 512: script (default)")
     i.add_argument("--mutant", metavar="NAME", help="run a deliberately broken variant (see --list-mutants)")
     i.add_argument("--list-mutants", action="store_true", help="list the broken variants and exit")
     i.add_argument("-v", "--verbose", action="store_true", help="also log deliveries and job results on stderr")
@@ -70,7 +80,8 @@ def add_commands(sub) -> None:
                                    "2 bad usage or a harness error.")
     f.add_argument("--iut", required=True, metavar="URL", help="as for 'ptpcert run'")
     f.add_argument("--profile", required=True, metavar="FILE", help="the IUT profile (TOML)")
-    f.add_argument("--budget", type=float, default=60.0, metavar="SECONDS", help="time budget (default 60)")
+    f.add_argument("--budget", type=BUDGET_S, default=60.0, metavar="SECONDS",
+                   help="time budget (default 60; 1 to 604800, a week)")
     f.add_argument("--seed", type=int, default=None, help="seed (printed, so any run can be replayed)")
     f.add_argument("--export", metavar="DIR", default=None,
                    help="where findings are written as vectors (default: ./vectors/regressions in the current directory)")
@@ -78,7 +89,7 @@ def add_commands(sub) -> None:
                    help="hypothesis settings profile (both extend hypothesis's 'ci' profile)")
     f.add_argument("--database", metavar="DIR",
                    help="hypothesis example database, to share a campaign between runs or machines")
-    f.add_argument("--max-actions", type=int, default=6, help="tester actions per example (default 6)")
+    f.add_argument("--max-actions", type=MAX_ACTIONS, default=6, help="tester actions per example (default 6; 1 to 100)")
     f.set_defaults(func=cmd_fuzz)
 
     rep = sub.add_parser("report", help="render a saved results object (JSON) as HTML or JUnit")
@@ -101,6 +112,8 @@ def cmd_iut(args) -> int:
         print(f"ptpcert iut: unknown mutant {args.mutant!r} for {proc.title}; --list-mutants shows them",
               file=sys.stderr)
         return 2
+    if args.app is None:
+        args.app = proc.apps()[0]
     if args.app not in proc.apps():
         print(f"ptpcert iut: --app {args.app!r}: allowed values are {', '.join(proc.apps())}", file=sys.stderr)
         return 2
@@ -115,8 +128,52 @@ def cmd_iut(args) -> int:
     return run_iut(host, proc.line(params), parmrk=args.parmrk, port=args.port, verbose=args.verbose)
 
 
-def _interrupt(*_):
-    raise KeyboardInterrupt
+class Interrupts:
+    """SIGINT (Ctrl-C) and SIGTERM while ptpcert drives an IUT. While armed, the first one
+    stops the work where it is (as KeyboardInterrupt, which the runner turns into an
+    interrupted run); every later one, and any that comes while the IUT is stopped and the
+    reports are written, is only counted: a second Ctrl-C or a supervisor's SIGTERM cannot
+    cost the reports."""
+
+    SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+    def __init__(self, args=None) -> None:
+        self.count = 0
+        self.armed = False
+        self._told = False
+        self._old: dict = {}
+        #: the command is the process's last act (the ``ptpcert`` program, not a caller in
+        #: the same process): signals after it are ignored, so that one that comes after
+        #: the reports cannot turn the exit status into a death by signal
+        self.keep = bool(getattr(args, "process_exits_after", False))
+
+    def __enter__(self) -> "Interrupts":
+        for sig in self.SIGNALS:
+            self._old[sig] = signal.signal(sig, self._handle)
+        self.armed = True
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.armed = False
+        for sig, handler in self._old.items():
+            # the process ends now: ignore the signals (Python restores the default handlers
+            # while it shuts down, which would turn the exit status into a death by signal)
+            signal.signal(sig, signal.SIG_IGN if self.keep else handler)
+
+    def disarm(self) -> None:
+        self.armed = False
+
+    def _handle(self, signum, frame) -> None:
+        self.count += 1
+        if self.armed:
+            self.armed = False
+            raise KeyboardInterrupt
+        if not self._told:
+            self._told = True
+            try:
+                os.write(2, b"ptpcert: interrupted; stopping the IUT and writing the reports first\n")
+            except OSError:
+                pass
 
 
 def cmd_run(args) -> int:
@@ -124,30 +181,29 @@ def cmd_run(args) -> int:
     from . import results as R
     from .runner import RunOptions, Runner
     from .scenario import VectorError, load_vector_sets, vector_set_hash
-    from .suite import load_suite
+    from .suite import check_expected_failures, load_suite
+    from .transport import TransportError, make_factory
 
-    if args.edge_attempts < 1:
-        print(f"ptpcert run: --edge-attempts must be 1 or more, not {args.edge_attempts}", file=sys.stderr)
-        return 2
     profile = _load_profile("run", args.profile)
     if profile is None:
         return 2
     try:
         vectors = load_vector_sets(args.vectors, only=args.vectors_only)
+        everything = load_suite(profile, vectors)
+        check_expected_failures(profile, everything)
         cases = load_suite(profile, vectors, include_suite=not args.vectors_only, select=args.select)
     except (VectorError, ValueError) as exc:
         print(f"ptpcert run: {exc}", file=sys.stderr)
         return 2
     if not cases:
-        print("ptpcert run: no case matches " + " ".join(args.select or []), file=sys.stderr)
+        print("ptpcert run: no case matches --select " + " ".join(args.select or [])
+              + " (the HTML or JSON report of a full run lists the case ids)", file=sys.stderr)
         return 2
-    factory = _connect("run", args.iut, profile)
-    if factory is None:
+    # before the first case: a run must never end without the reports it was asked for
+    problem = report_paths_problem(args, ("junit", "json", "html", "pcap"))
+    if problem:
+        print(f"ptpcert run: {problem}", file=sys.stderr)
         return 2
-    opts = RunOptions(late_ms=args.tolerance_ms, startup_timeout=args.startup_timeout,
-                      echo=profile.echo, check_status=profile.status_from_stderr,
-                      edge_attempts=args.edge_attempts)
-    runner = Runner(factory, profile, opts)
     result = R.RunResult(tool_version=__version__, started=_now(), iut=args.iut, procedure=profile.procedure.title,
                          profile=profile.to_dict(), profile_path=str(args.profile),
                          vector_set=vector_set_label(args.vectors, args.vectors_only), vector_set_hash=vector_set_hash(cases),
@@ -157,21 +213,69 @@ def cmd_run(args) -> int:
         if not args.quiet:
             print(rep.progress_line(i, n, c), flush=True)
 
-    old = signal.signal(signal.SIGTERM, _interrupt)
-    try:
-        runner.run(cases, result, progress, max_failures=args.max_failures)
-    finally:
-        signal.signal(signal.SIGTERM, old)
-        factory.shutdown()
+    factory = None
+    startup_failure = fault = ""
+    with Interrupts(args) as interrupts:
+        try:
+            try:
+                factory = make_factory(args.iut, profile)
+            except TransportError as exc:   # a URL or port that cannot work: bad usage, nothing run
+                interrupts.disarm()
+                print(f"ptpcert run: {exc}", file=sys.stderr)
+                return 2
+            opts = RunOptions(late_ms=args.tolerance_ms, startup_timeout=args.startup_timeout,
+                              echo=profile.echo, check_status=profile.status_from_stderr,
+                              edge_attempts=args.edge_attempts)
+            try:
+                preflight(args.iut, factory, profile)
+            except TransportError as exc:   # the IUT cannot start: every case is an error, with the reason
+                startup_failure = str(exc)
+            if not startup_failure:
+                Runner(factory, profile, opts).run(cases, result, progress, max_failures=args.max_failures)
+            interrupts.disarm()
+        except KeyboardInterrupt:
+            result.interrupted = True
+        except Exception as exc:   # a fault of ptpcert itself: the reports still arrive, and say so
+            fault = f"harness fault: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}"
+        interrupts.disarm()
+        # from here on signals are only counted: the IUT is stopped and the reports written
+        if startup_failure:
+            mark_not_run(result, cases, R.ERROR, f"the IUT could not be started: {startup_failure}")
+        elif fault:
+            mark_not_run(result, cases, R.ERROR, f"not run: {fault}")
+        elif result.interrupted:
+            mark_not_run(result, cases, R.NOT_RUN, "run interrupted")
+        if factory is not None:
+            factory.shutdown()
         result.finished = _now()
-        write_reports(result, args)
-    print(rep.summary(result))
-    for kind in ("junit", "json", "html", "pcap"):
-        if getattr(args, kind, None):
-            print(f"{kind}: {getattr(args, kind)}")
+        if interrupts.count:
+            result.interrupted = True
+        written = write_reports(result, args, "run")
+        if startup_failure or fault:
+            print(f"ptpcert run: {' '.join((startup_failure or fault).split())[:600]}", file=sys.stderr)
+        else:
+            print(rep.summary(result))
+        for kind in ("junit", "json", "html", "pcap"):
+            if getattr(args, kind) and kind in written:
+                print(f"{kind}: {getattr(args, kind)}")
+        sys.stdout.flush()
+        if (startup_failure or fault or result.interrupted or interrupts.count
+                or len(written) < sum(bool(getattr(args, k)) for k in ("junit", "json", "html", "pcap"))):
+            return 2
     if result.counts()[R.ERROR] and result.exit_status() == 0:
         return 2
     return result.exit_status()
+
+
+def mark_not_run(result, cases, verdict: str, message: str) -> None:
+    """Every case of ``cases`` without a result gets one: ``verdict`` with ``message``."""
+    from . import results as R
+
+    done = {c.id for c in result.cases}
+    for v in cases:
+        if v.id not in done:
+            result.cases.append(R.CaseResult(v.id, v.title, v.reference, v.rule, v.group, v.iut_role,
+                                             verdict=verdict, message=message, source=v.source))
 
 
 def vector_set_label(extra, only: bool) -> str:
@@ -180,22 +284,55 @@ def vector_set_label(extra, only: bool) -> str:
     return " + ".join(parts + [str(d) for d in extra])
 
 
-def write_reports(result, args) -> None:
-    from . import report as rep
+def report_paths_problem(args, kinds: tuple[str, ...], reading: str | None = None) -> str | None:
+    """Why one of the report options (``--junit`` ...) cannot be written, checked before
+    anything runs; None when all can."""
+    from .results import report_path_problem
 
-    if getattr(args, "json", None):
-        result.write_json(args.json)
-    if getattr(args, "html", None):
-        from .html import write_html
-        write_html(result, args.html)
-    if getattr(args, "junit", None):
-        rep.write_junit(result, args.junit)
-    if getattr(args, "pcap", None):
-        from . import capture as C
+    seen: dict[str, str] = {}
+    if reading is not None:
+        seen[os.path.realpath(reading)] = "the results file read"
+    for kind in kinds:
+        path = getattr(args, kind, None)
+        if path is None:
+            continue
+        real = os.path.realpath(path) if str(path).strip() else ""
+        if real in seen:
+            return f"--{kind} {path}: is also {seen[real]}; give each report its own file"
+        seen[real] = f"--{kind}"
+        problem = report_path_problem(path)
+        if problem:
+            return f"--{kind} {path}: {problem}"
+    return None
+
+
+def write_reports(result, args, cmd: str) -> set[str]:
+    """Write the reports the options ask for: JUnit first (what CI reads), then JSON and
+    HTML, each whole or not at all. Returns the kinds written; a report that cannot be
+    written is said on stderr and does not stop the others."""
+    from . import report as rep
+    from .html import write_html
+
+    from . import capture as C
+
+    def write_pcap(r, p) -> None:       # run --pcap: the run's wire traffic as one capture
+        C.save(C.from_results(r), p, "pcap")
+
+    writers = (("junit", rep.write_junit), ("json", lambda r, p: r.write_json(p)), ("html", write_html),
+               ("pcap", write_pcap))
+    written = set()
+    for kind, write in writers:
+        path = getattr(args, kind, None)
+        if not path:
+            continue
         try:
-            C.save(C.from_results(result), args.pcap, "pcap")
+            write(result, path)
+            written.add(kind)
+        except OSError as exc:
+            print(f"ptpcert {cmd}: --{kind} {path}: cannot be written ({exc.strerror or exc})", file=sys.stderr)
         except C.CaptureError as exc:
-            print(f"ptpcert run: {exc}", file=sys.stderr)
+            print(f"ptpcert {cmd}: --{kind} {path}: {exc}", file=sys.stderr)
+    return written
 
 
 def _load_profile(cmd: str, path):
@@ -222,13 +359,13 @@ def _connect(cmd: str, url: str, profile):
     except TransportError as exc:
         if factory is not None:
             factory.shutdown()   # processes started ahead for the next cases
-        print(f"ptpcert {cmd}: {exc}", file=sys.stderr)
+        print(f"ptpcert {cmd}: {' '.join(str(exc).split())[:600]}", file=sys.stderr)
         return None
 
 
 def preflight(url: str, factory, profile) -> None:
     """Start the IUT once before the run: a command that cannot start, or a port that cannot
-    be opened, is a usage error (exit 2), not 50 failed cases."""
+    be opened, is found before the first case, not as 50 failed cases."""
     from .transport import IUTDied, RESTART, TransportError
 
     if RESTART not in factory.capabilities or factory.virtual:
@@ -238,7 +375,9 @@ def preflight(url: str, factory, profile) -> None:
         tr.open()
         tr.read(tr.now() + 1.0)
     except IUTDied as exc:
-        raise TransportError(f"{url}: the IUT ended at start-up (exit status {exc.returncode})"
+        what = (f"the IUT ended at start-up (exit status {exc.returncode})" if exc.returncode is not None
+                else f"at start-up, {exc}")
+        raise TransportError(f"{url}: {what}"
                              + (f": {exc.stderr_tail.strip()[-600:]}" if exc.stderr_tail.strip() else "")) from None
     finally:
         tr.close()
@@ -255,33 +394,43 @@ def cmd_fuzz(args) -> int:
     profile = _load_profile("fuzz", args.profile)
     if profile is None:
         return 2
-    if args.budget <= 0:
-        print("ptpcert fuzz: --budget must be positive", file=sys.stderr)
-        return 2
     seed = args.seed if args.seed is not None else random.SystemRandom().randrange(1, 2**31)
-    factory = _connect("fuzz", args.iut, profile)
-    if factory is None:
-        return 2
     out_dir = args.export or str(findings_dir())
-    print(f"ptpcert fuzz {__version__}: iut {args.iut}, profile {args.profile}")
-    print(f"seed {seed}, settings {args.settings}, budget {args.budget:.0f} s"
-          + (f", database {args.database}" if args.database else ""))
-    print(f"replay: ptpcert fuzz --iut '{args.iut}' --profile {args.profile} --seed {seed} "
-          f"--settings {args.settings} --budget {args.budget:.0f}", flush=True)
-    runner = Runner(factory, profile, RunOptions(check_status=False, late_ms=50.0))
-    camp = Campaign(profile, runner, args.budget, seed, args.settings, args.database,
-                    progress=lambda line: print(line, flush=True), max_actions=args.max_actions)
-    old = signal.signal(signal.SIGTERM, _interrupt)
-    interrupted = False
-    try:
-        camp.run()
-    except KeyboardInterrupt:
-        interrupted = True
-    finally:
-        signal.signal(signal.SIGTERM, old)
-        factory.shutdown()
-    paths = export(camp.findings, out_dir) if camp.findings else []
-    elapsed = time.monotonic() - camp.started
+    with Interrupts(args) as interrupts:
+        camp = None
+        interrupted = False
+        factory = None
+        try:
+            factory = _connect("fuzz", args.iut, profile)
+            if factory is None:
+                interrupts.disarm()
+                return 2
+            print(f"ptpcert fuzz {__version__}: iut {args.iut}, profile {args.profile}")
+            print(f"seed {seed}, settings {args.settings}, budget {args.budget:g} s"
+                  + (f", database {args.database}" if args.database else ""))
+            print(f"replay: ptpcert fuzz --iut '{args.iut}' --profile {args.profile} --seed {seed} "
+                  f"--settings {args.settings} --budget {args.budget:g}", flush=True)
+            kit = profile.procedure.fuzz_kit()
+            check = bool(kit is not None and kit.check_reports and profile.status_from_stderr)
+            runner = Runner(factory, profile, RunOptions(check_status=check, late_ms=50.0))
+            camp = Campaign(profile, runner, args.budget, seed, args.settings, args.database,
+                            progress=lambda line: print(line, flush=True), max_actions=args.max_actions)
+            camp.run()
+            interrupts.disarm()
+        except KeyboardInterrupt:
+            interrupted = True
+        interrupts.disarm()
+        if factory is not None:
+            factory.shutdown()
+        interrupted = interrupted or interrupts.count > 0
+        if camp is None:
+            return 2
+        try:
+            paths = export(camp.findings, out_dir) if camp.findings else []
+        except OSError as exc:
+            print(f"ptpcert fuzz: findings cannot be written to {out_dir} ({exc.strerror or exc})", file=sys.stderr)
+            paths, interrupted = [], True
+    elapsed = time.monotonic() - camp.started if camp.started else 0.0
     print(f"\n{camp.examples} examples in {elapsed:.1f} s ({camp.examples / max(elapsed, 1e-9):.1f}/s), "
           f"{len(camp.findings)} finding(s), {camp.informational} divergence(s) explained by another reading"
           + (", INTERRUPTED" if interrupted else ""))
@@ -294,11 +443,15 @@ def cmd_fuzz(args) -> int:
 
 def cmd_report(args) -> int:
     from . import report as rep
-    from .results import RunResult
+    from .results import ResultsError, RunResult
 
+    problem = report_paths_problem(args, ("junit", "html"), reading=args.results)
+    if problem:
+        print(f"ptpcert report: {problem}", file=sys.stderr)
+        return 2
     try:
         result = RunResult.read_json(args.results)
-    except ValueError as exc:
+    except ResultsError as exc:
         print(f"ptpcert report: {exc}", file=sys.stderr)
         return 2
     if not args.html and not args.junit:
@@ -306,13 +459,11 @@ def cmd_report(args) -> int:
         return 0
     if args.html:
         result.html_path = args.html
-        from .html import write_html
-        write_html(result, args.html)
-        print(f"html: {args.html}")
-    if args.junit:
-        rep.write_junit(result, args.junit)
-        print(f"junit: {args.junit}")
-    return 0
+    written = write_reports(result, args, "report")
+    for kind in ("junit", "html"):
+        if kind in written:
+            print(f"{kind}: {getattr(args, kind)}")
+    return 0 if len(written) == bool(args.html) + bool(args.junit) else 2
 
 
 def _now() -> str:

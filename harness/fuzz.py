@@ -7,7 +7,7 @@ crossing STX or silence; interrupt its block; send blocks with wrong BCCs, chara
 errors, gaps over CDT...). The result is an ordinary vector: the tester's stimuli and, as
 expectations, what the model did, with windows derived from why it did it. The vector is
 run against the IUT; a divergence is a finding, confirmed by a second run, and not a
-finding when a model with another defensible reading of the manual (3964r.md §17) would
+finding when a model with another defensible reading of the manual (docs/readings.md) would
 have done what the IUT did. Hypothesis shrinks every finding to a minimal transcript,
 which is written out as a vector (``vectors/regressions/``).
 
@@ -587,9 +587,17 @@ class Campaign:
     max_case_seconds: float | None = None
     _unshrunk: Finding | None = None
     _shrink_until: float = 0.0
+    #: divergences already tried against the other readings (shrinking meets them again)
+    _explained: dict = field(default_factory=dict)
 
     def _run_vector(self, v: Vector) -> R.CaseResult:
         return self.runner.run_case(v)
+
+    def _release(self) -> None:
+        """Stop the IUT processes the transport started ahead, where it does."""
+        release = getattr(self.runner.factory, "release", None)
+        if release is not None:
+            release()
 
     @property
     def kit(self) -> "FuzzKit":
@@ -621,6 +629,7 @@ class Campaign:
                 if campaign._unshrunk is None and now >= end:
                     raise _BudgetOver          # generating: the budget is spent
                 if campaign._unshrunk is not None and now >= max(end, campaign._shrink_until):
+                    campaign._release()        # no IUT is needed any more in this round
                     return                     # shrinking has had its time: keep what it has
                 sim = gen(data)
                 # examples that make the IUT wait out T_BLOCK (4 s) cost more real time than
@@ -632,7 +641,8 @@ class Campaign:
                 res = campaign._run_vector(v)
                 if res.verdict != R.FAIL:
                     return
-                res2 = campaign._run_vector(v)            # confirm: real time can glitch once
+                # confirm: real time can glitch once (virtual time cannot)
+                res2 = res if getattr(campaign.runner.factory, "virtual", False) else campaign._run_vector(v)
                 if res2.verdict != R.FAIL:
                     return
                 alt = campaign._alternative(v, res2)
@@ -674,6 +684,8 @@ class Campaign:
                     self.findings.append(finding)
                     if self.progress:
                         self.progress(finding.describe())
+            finally:
+                self._release()   # between rounds no IUT waits: each is started for its example
             rnd += 1
             if self.progress:
                 self.progress(f"[{time.monotonic() - self.started:6.1f} s] examples {self.examples}, "
@@ -681,27 +693,45 @@ class Campaign:
         return self.findings
 
     def _alternative(self, v: Vector, res: R.CaseResult) -> str | None:
-        """The open point of the manual (3964r.md §17) whose other reading explains the
+        """The open point of the manual (docs/readings.md) whose other reading explains the
         divergence, if any: a model with that reading, run through the same vector, departs
         from it at the same step in the same way as the IUT did."""
-        if res.divergence is None:
-            return None
+        d0 = res.divergence
+        key = (d0.expected, d0.observed) if d0 is not None else res.message
+        if key not in self._explained:
+            self._explained[key] = self._try_alternatives(v, res)
+        return self._explained[key]
+
+    def _try_alternatives(self, v: Vector, res: R.CaseResult) -> str | None:
         from .transport import sim_factory
         proc = self.profile.procedure
+        app = "echo" if self.profile.echo else "none"
+        if app not in proc.apps():
+            app = proc.apps()[0]
         for name, change in self.kit.alternatives:
             readings = replace(self.kit.readings, **change)
-            factory = sim_factory(proc, {"app": "echo" if self.profile.echo else "none"}, readings=readings)
-            alt = Runner(factory, self.profile, RunOptions(check_status=False)).run_case(v)
+            factory = sim_factory(proc, {"app": app}, readings=readings)
+            alt = Runner(factory, self.profile, RunOptions(check_status=self.kit.check_reports)).run_case(v)
             d = alt.divergence
-            if d is not None and d.step == res.divergence.step and d.observed == res.divergence.observed:
+            if res.divergence is None:
+                # a divergence in what the IUT reported (STATUS, request results), not on the wire
+                if d is None and alt.verdict == R.FAIL and alt.message == res.message:
+                    return name
+            elif d is not None and d.step == res.divergence.step and d.observed == res.divergence.observed:
                 return name
         return None
 
 def _divergent_rule(v: Vector, res: R.CaseResult) -> tuple[str, str]:
-    if res.divergence is not None and 0 <= res.divergence.step < len(v.steps):
-        note = v.steps[res.divergence.step].note
+    from .scenario import expand
+    steps = expand(v)   # the divergence's step counts the expanded steps (macros unfolded)
+    if res.divergence is not None and 0 <= res.divergence.step < len(steps):
+        note = steps[res.divergence.step].note
         if note:
             return rule_of_note(note)
+    if res.divergence is None and res.message.startswith("reported: "):
+        return "the IUT's results of its requests follow from the exchange: " + res.message[10:], ""
+    if res.divergence is None and res.message.startswith("STATUS: "):
+        return "the IUT reports the STATUS events the exchange raises: " + res.message[8:], res.message[8:]
     return "after the exchange the line stays quiet (no spurious bytes)", ""
 
 
@@ -742,6 +772,9 @@ class FuzzKit:
     generator: Callable
     readings: object
     alternatives: tuple[tuple[str, dict], ...]
+    #: the examples' expectations include what the IUT reports (STATUS and, for RK 512, the
+    #: request results): the campaign checks them where the profile says the IUT reports
+    check_reports: bool = False
 
 
 KIT_3964 = FuzzKit(Generator, READINGS, tuple(ALTERNATIVE_READINGS))

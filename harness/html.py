@@ -21,10 +21,10 @@ import html as _html
 import math
 import re
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Iterable
 
 from . import results as R
+from .html_rules import traceability_section
 from .report import anchor, step_text
 
 # ------------------------------------------------------------------ constants
@@ -131,27 +131,22 @@ class LineBreak:
 
 
 def group_events(transcript: Iterable[dict[str, Any]], gap: float = GROUP_GAP) -> list[Arrow | LineBreak]:
-    """Bytes, character errors and BREAKs of a transcript, grouped into arrows, in time order."""
-    wire = [e for e in transcript if e.get("kind") in ("byte", "char_error", "break") and "t" in e]
-    wire.sort(key=lambda e: float(e["t"]))  # stable: equal times keep the log's order
+    """Bytes, character errors and BREAKs of a transcript (runs, or one entry per byte),
+    grouped into arrows, in time order."""
     out: list[Arrow | LineBreak] = []
     cur: Arrow | None = None
-    for e in wire:
-        t = float(e["t"])
-        d = e.get("dir", "tester")
-        step = int(e.get("step", 0))
-        if e["kind"] == "break":
-            out.append(LineBreak(d, t, float(e.get("duration", 0.0)), step))
+    for t, d, kind, value, step in R.wire_runs(transcript):
+        if kind == "break":
+            out.append(LineBreak(d, t, value, step))
             cur = None
             continue
-        b = int(e.get("byte", 0)) & 0xFF
-        if (cur is not None and cur.dir == d and cur.kind == e["kind"] and cur.step == step
+        if (cur is not None and cur.dir == d and cur.kind == kind and cur.step == step
                 and t - cur.t1 < gap):
-            cur.data.append(b)
-            cur.times.append(t)
+            cur.data += value
+            cur.times += [t] * len(value)
             cur.t1 = t
         else:
-            cur = Arrow(d, e["kind"], t, t, bytearray([b]), step, [t])
+            cur = Arrow(d, kind, t, t, bytearray(value), step, [t] * len(value))
             out.append(cur)
     out = _split_trailing_stx(out)
     last = -math.inf
@@ -218,6 +213,9 @@ def arrow_label(a: Arrow, procedure: str = "3964R", parity: str = "even") -> str
         if len(a.data) > 1:
             what = what.replace("error", "errors")
         return what + " " + _abbrev_tokens([f"{b:02X}" for b in a.data], len(a.data))
+    if len(a.data) > BURST_SHOWN:   # no block is this long (a flood): name only its ends
+        head, tail = tokens(bytes(a.data[:32]), procedure), tokens(bytes(a.data[-32:]), procedure)
+        return " ".join(head[:6]) + " … " + " ".join(tail[-5:]) + f" ({len(a.data)} bytes)"
     return _abbrev_tokens(tokens(bytes(a.data), procedure), len(a.data))
 
 
@@ -225,6 +223,19 @@ def _abbrev_tokens(toks: list[str], nbytes: int) -> str:
     if len(toks) <= MAX_TOKENS:
         return " ".join(toks)
     return " ".join(toks[:6]) + " … " + " ".join(toks[-5:]) + f" ({nbytes} bytes)"
+
+
+#: a burst longer than this (longer than any block with its framing) is shown by its head
+#: and tail in the text transcript; the results (JSON) keep every byte
+BURST_SHOWN = 4096
+
+
+def burst_hex(data: bytes, limit: int = BURST_SHOWN) -> str:
+    if len(data) <= limit:
+        return hexstr(data)
+    head, tail = data[: limit // 2], data[-limit // 8:]
+    return (f"{hexstr(head)} … {len(data) - len(head) - len(tail)} bytes not shown (see the JSON results) … "
+            f"{hexstr(tail)}")
 
 
 def hexstr(data: bytes) -> str:
@@ -376,12 +387,13 @@ def _select(events: list, div_t: float | None, max_events: int) -> tuple[list, l
     return kept, ranges
 
 
-def sequence_svg(c: R.CaseResult) -> str:
-    """The case's transcript as an SVG sequence diagram ('' when there is no transcript)."""
+def sequence_svg(c: R.CaseResult, events: list | None = None) -> str:
+    """The case's transcript as an SVG sequence diagram ('' when there is no transcript);
+    ``events``: its :func:`group_events`, where already at hand."""
     tr = c.transcript or []
     procedure = str(c.params.get("procedure", "3964R"))
     parity = str(c.params.get("parity", "even"))
-    all_events = group_events(tr)
+    all_events = group_events(tr) if events is None else events
     windows = [e for e in tr if e.get("kind") == "window" and "t0" in e and "t1" in e]
     starts = [float(e["t"]) for e in tr if e.get("kind") == "start" and "t" in e]
     div = c.divergence
@@ -822,20 +834,22 @@ def _steps_table(c: R.CaseResult) -> str:
             '<th>bytes / duration</th><th>timing</th><th>note</th></tr>' + "".join(rows) + "</table></details>")
 
 
-def _transcript_text(c: R.CaseResult) -> str:
+def _transcript_text(c: R.CaseResult, events: list | None = None) -> str:
     """The whole transcript, one line per burst, window or mark (compact: full bytes, no
     line per byte)."""
     lines = []
     items: list[tuple[float, int, str]] = []
-    for e in group_events(c.transcript):
+    for e in group_events(c.transcript) if events is None else events:
         if isinstance(e, LineBreak):
             items.append((e.t0, 0, f"{ms(e.t0):>10} ms  {e.dir:<6} BREAK held {e.duration * 1000:.1f} ms  (step {e.step + 1})"))
         else:
             what = "char-error " if e.kind == "char_error" else ""
-            items.append((e.t0, 0, f"{ms(e.t0):>10} ms  {e.dir:<6} {what}{hexstr(bytes(e.data))}"
+            items.append((e.t0, 0, f"{ms(e.t0):>10} ms  {e.dir:<6} {what}{burst_hex(bytes(e.data))}"
                                    f"  ({len(e.data)} byte{'s' if len(e.data) != 1 else ''}, step {e.step + 1})"))
     for e in c.transcript:
-        if e.get("kind") == "window" and "t0" in e:
+        if e.get("kind") == "dropped" and "t" in e:
+            items.append((float(e["t"]), 1, f"{ms(float(e['t'])):>10} ms  {R.dropped_note(e)}"))
+        elif e.get("kind") == "window" and "t0" in e:
             items.append((float(e["t0"]), 1, f"{ms(float(e['t0'])):>10} ms  window step {int(e.get('step', 0)) + 1}: "
                                              f"{e.get('label', '')} until {ms(float(e['t1']))} ms"))
         elif e.get("kind") == "start" and "t" in e:
@@ -895,13 +909,14 @@ def _case(c: R.CaseResult, used: set[str]) -> str:
         body.append(f'<div class="divbox"><b>first divergence</b> at {step_text(d.step)}{ms(d.time)} ms{esc(win)}:'
                     f"<br>expected {esc(name_controls(abbreviate_hex(d.expected)))}"
                     f"<br>observed {esc(name_controls(abbreviate_hex(d.observed)))}</div>")
-    svg = sequence_svg(c)
+    events = group_events(c.transcript)
+    svg = sequence_svg(c, events)
     if svg:
         body.append(f'<div class="diagram">{svg}</div>')
     else:
         body.append("<p><i>no transcript (the case did not reach the line)</i></p>")
     body.append(_steps_table(c))
-    body.append(_transcript_text(c))
+    body.append(_transcript_text(c, events))
     if c.stderr_tail:
         body.append("<b>IUT stderr (tail)</b><pre>" + esc(c.stderr_tail[-2000:]) + "</pre>")
     return (f'<section class="case c-{esc(c.verdict)}" id="{esc(a)}" data-verdict="{esc(c.verdict)}">'
@@ -935,7 +950,7 @@ def render(run: R.RunResult) -> str:
     return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
             f"<title>{esc(title)}</title><style>{CSS}</style></head><body>"
-            + _header(run) + _filter(run) + _summary(run)
+            + _header(run) + _filter(run) + _summary(run) + traceability_section(run)
             + '<section id="cases"><h2>Cases (failures first)</h2>' + cases + "</section>"
             + _legend(used)
             + f"<footer>ptpcert {esc(run.tool_version)} · results schema {esc(run.schema)} · "
@@ -944,8 +959,4 @@ def render(run: R.RunResult) -> str:
 
 
 def write_html(result: R.RunResult, path) -> None:
-    p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    tmp = p.with_suffix(p.suffix + ".tmp")
-    tmp.write_text(render(result), "utf-8")
-    tmp.replace(p)
+    R.write_atomic(path, render(result))

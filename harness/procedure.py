@@ -5,7 +5,7 @@ driver) to the rest of ptpcert: the names it has in a profile and its own profil
 how its parameters are read and written, the timers its time expressions may name, its
 sans-IO station and application (for ``sim:``, ``vectors --check`` and the tester's
 conforming partner), how a per-case IUT command is made, how its frames are named in
-transcripts and reports, its broken variants and its fuzz kit. The runner, the transports,
+transcripts and reports, its rules catalogue, its broken variants and its fuzz kit. The runner, the transports,
 the driver, the reports and the CLI use only this description; each procedure is a module
 of :mod:`ptpcert.procedures` that fills it in.
 
@@ -214,6 +214,20 @@ class Procedure:
             words = words.replace("{" + k + "}", str(v))
         return f"{template} {words}"
 
+    def start_ahead(self, vector: Any) -> bool:
+        """Whether the IUT process of ``vector``'s case may be started while the previous
+        case runs. Not where the IUT acts on its own from its start (RK 512's request
+        script, a coordination flag cleared a time after the start): it must start with its
+        case."""
+        return True
+
+    def unsupported_reason(self, vector: Any, profile: Any, capabilities: frozenset[str],
+                           factory: Any) -> str | None:
+        """Why ``vector`` cannot run against the IUT ``profile`` describes (None: it can),
+        beyond what the runner checks for every procedure: e.g. a role or a memory area the
+        IUT does not have."""
+        return None
+
     def judge_reports(self, vector: Any, lines: list[str]) -> list[str]:
         """Problems with what the IUT reported on stderr beyond STATUS (e.g. RK 512's RESULT
         lines); empty: acceptable."""
@@ -234,6 +248,24 @@ class Procedure:
         "none"), ``late_ms`` how late a station may act on its own timer. None while the
         procedure has none."""
         return None
+    # -- the rules catalogue --------------------------------------------------------------
+    def rules(self) -> Any:
+        """The manual's rules of this procedure as data (:class:`ptpcert.rules.Catalogue`):
+        stable ids that cases, vectors and the model cite, for the traceability matrix. A
+        procedure has one when a catalogue file with its id is bundled in ``ptpcert.rules``;
+        otherwise the catalogue is empty."""
+        from .rules import for_procedure
+        return for_procedure(self.id)
+
+    def rule_settings(self) -> list[tuple[str, dict[str, Any], dict[str, Any]]]:
+        """The IUT settings the traceability matrix is computed for, each as (label, the
+        values of the catalogue's dimensions, a complete profile ``[iut]`` table): a rule that
+        applies to a setting needs a case in the suite generated for it."""
+        return []
+
+    def setting_values(self, params: Any) -> dict[str, Any]:
+        """The values of the catalogue's dimensions for an IUT with ``params``."""
+        return {}
 
     # -- broken variants and fuzzing ------------------------------------------------------
     def mutants(self) -> Mapping[str, Mutant]:

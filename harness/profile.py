@@ -76,10 +76,21 @@ class Profile:
         }
 
 
+def _is_device(path: str | Path) -> bool:
+    import stat
+    try:
+        mode = Path(path).stat().st_mode
+    except OSError:
+        return False
+    return stat.S_ISCHR(mode) or stat.S_ISBLK(mode) or stat.S_ISSOCK(mode)
+
+
 def read_toml(path: str | Path, what: str, error) -> dict[str, Any]:
     """A TOML file as a dict; every way it can be unreadable is one clear error."""
     where = str(path)
     try:
+        if _is_device(path):   # /dev/zero would be read for ever
+            raise error(where, "", f"is a device, not a {what} file")
         data = Path(path).read_bytes()
     except FileNotFoundError:
         raise error(where, "", "no such file") from None

@@ -33,16 +33,24 @@ def step_text(step: int) -> str:
 
 
 def transcript_text(c: R.CaseResult, tail: int = 40) -> str:
-    """The last ``tail`` entries of a case's transcript as text lines."""
+    """The last ``tail`` bytes, character errors and BREAKs of a case's transcript as text
+    lines, and what the transcript did not keep."""
+    last: list = []
+    for t, d, kind, value, step in reversed(R.wire_runs(c.transcript)):
+        if kind == "break":
+            last.append((t, d, kind, value, step))
+        else:
+            last.extend((t, d, kind, b, step) for b in reversed(value[-tail:]))
+        if len(last) >= tail:
+            break
     lines = []
-    for e in c.transcript:
-        if e.get("kind") not in ("byte", "break", "char_error"):
-            continue
-        who = "tester" if e["dir"] == "tester" else "IUT   "
-        what = {"byte": "", "break": "BREAK ", "char_error": "char-error "}[e["kind"]]
-        val = "" if e["kind"] == "break" else f"{e['byte']:02X}"
-        lines.append(f"{e['t'] * 1000:10.3f} ms  {who} -> {what}{val}")
-    return "\n".join(lines[-tail:])
+    for t, d, kind, value, _ in reversed(last[:tail]):
+        who = "tester" if d == "tester" else "IUT   "
+        what = {"byte": "", "break": "BREAK ", "char_error": "char-error "}[kind]
+        val = "" if kind == "break" else f"{value:02X}"
+        lines.append(f"{t * 1000:10.3f} ms  {who} -> {what}{val}")
+    lines += [R.dropped_note(e) for e in c.transcript if e.get("kind") == "dropped"]
+    return "\n".join(lines)
 
 
 def failure_text(c: R.CaseResult) -> str:
@@ -85,6 +93,14 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
         elif kind == "skipped":
             tc.add_skipped_info(message=f"{c.verdict}: {c.message}"[:500])
         cases.append(tc)
+    if run.interrupted:
+        # a CI view that reads only JUnit must not show an interrupted run as green
+        done = sum(c.verdict != R.NOT_RUN for c in run.cases)
+        why = (f"the run was interrupted (Ctrl-C or SIGTERM) after {done} of {len(run.cases)} cases; "
+               "the cases not reached are reported as skipped (not-run)")
+        tc = TestCase("run interrupted", classname="ptpcert.run", elapsed_sec=0.0, stdout=why)
+        tc.add_error_info(message=why, error_type="interrupted")
+        cases.append(tc)
     props = {"tool": f"ptpcert {run.tool_version}", "iut": run.iut, "profile": run.profile_path,
              "vector_set_hash": run.vector_set_hash, "verdict": run.verdict,
              "interrupted": str(run.interrupted).lower()}
@@ -92,11 +108,7 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
         if k != "expected_failures":
             props[f"profile.{k}"] = str(v)
     suite = TestSuite(f"ptpcert {run.procedure or '3964/3964R'} conformance", cases, timestamp=run.started, properties=props)
-    p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    tmp = p.with_suffix(p.suffix + ".tmp")
-    tmp.write_text(to_xml_report_string([suite], prettyprint=True), "utf-8")
-    tmp.replace(p)
+    R.write_atomic(path, to_xml_report_string([suite], prettyprint=True))
 
 
 def progress_line(i: int, n: int, c: R.CaseResult) -> str:

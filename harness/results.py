@@ -3,10 +3,14 @@ summary are views of it (:mod:`ptpcert.report`)."""
 
 from __future__ import annotations
 
+import base64
 import json
-from dataclasses import asdict, dataclass, field
+import math
+import os
+import secrets
+from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterable
 
 PASS = "pass"
 FAIL = "fail"
@@ -24,7 +28,12 @@ FAILING = (FAIL, XPASS)
 #: Grades of a passing case, mildest first.
 GRADE_ORDER = (PASS, INFORMATIONAL, NON_STRICT)
 
-SCHEMA = "ptpcert-results/1"
+#: The results format. 2: the bytes of a transcript are stored as runs (one entry per burst
+#: of one side, its bytes in base64 and, where they differ, each byte's time) and bounded
+#: by the flood limit; 1 had one entry per byte. ``ptpcert report`` reads both.
+SCHEMA = "ptpcert-results/2"
+SCHEMA_V1 = "ptpcert-results/1"
+SCHEMAS = (SCHEMA, SCHEMA_V1)
 
 
 def worse_grade(a: str, b: str) -> str:
@@ -72,6 +81,7 @@ class CaseResult:
     source: str = ""
     params: dict[str, Any] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
+    rules: list[str] = field(default_factory=list)  # ids of the manual's rules the case checks
 
     @property
     def failed(self) -> bool:
@@ -122,38 +132,321 @@ class RunResult:
         d["verdict"] = self.verdict
         return d
 
+    def to_json(self) -> str:
+        return json.dumps(self.to_dict(), indent=1)
+
     def write_json(self, path: str | Path) -> None:
-        p = Path(path)
-        p.parent.mkdir(parents=True, exist_ok=True)
-        tmp = p.with_suffix(p.suffix + ".tmp")
-        tmp.write_text(json.dumps(self.to_dict(), indent=1), "utf-8")
-        tmp.replace(p)
+        write_atomic(path, self.to_json())
 
     @classmethod
-    def from_dict(cls, d: dict[str, Any]) -> "RunResult":
-        if d.get("schema") != SCHEMA:
-            raise ValueError(f"not a ptpcert results object (schema {d.get('schema')!r}, expected {SCHEMA!r})")
+    def from_dict(cls, d: Any) -> "RunResult":
+        """A results object from its JSON form (either schema). Raises :class:`ResultsError`
+        naming the key and what is allowed, so that no saved file can make a view fail."""
+        _check_run(d)
+        if d["schema"] == SCHEMA_V1:   # one entry per byte: packed into runs as a run keeps them
+            d = dict(d, cases=[dict(c, transcript=pack_transcript(c.get("transcript", []))) for c in d["cases"]])
+        names = {f.name for f in fields(CaseResult)}
         cases = []
         for c in d["cases"]:
-            c = dict(c)
+            c = {k: v for k, v in c.items() if k in names}
             div = c.pop("divergence", None)
             if div is not None:
+                div = {k: v for k, v in div.items() if k in Divergence.__dataclass_fields__}
                 if div.get("window") is not None:
                     div["window"] = tuple(div["window"])
                 div = Divergence(**div)
             cases.append(CaseResult(divergence=div, **c))
         fields_ = {k: v for k, v in d.items() if k in cls.__dataclass_fields__ and k != "cases"}
+        fields_["schema"] = SCHEMA
         return cls(cases=cases, **fields_)
 
     @classmethod
     def read_json(cls, path: str | Path) -> "RunResult":
+        import stat
         try:
-            data = json.loads(Path(path).read_text("utf-8"))
+            mode = Path(path).stat().st_mode
+            if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) or stat.S_ISSOCK(mode):   # /dev/zero: never ends
+                raise ResultsError(f"{path}: is a device, not a results file")
+            raw = Path(path).read_bytes()
+        except IsADirectoryError:
+            raise ResultsError(f"{path}: is a directory, not a results file") from None
         except OSError as exc:
-            raise ValueError(f"{path}: cannot be read: {exc.strerror}") from None
-        except json.JSONDecodeError as exc:
-            raise ValueError(f"{path}: not JSON: {exc}") from None
+            raise ResultsError(f"{path}: cannot be read: {exc.strerror}") from None
+        try:
+            data = json.loads(raw.decode("utf-8"))
+        except UnicodeDecodeError as exc:
+            raise ResultsError(f"{path}: is not UTF-8 text (byte {exc.start}); "
+                               "expected the JSON that ptpcert run --json writes") from None
+        except (json.JSONDecodeError, RecursionError) as exc:
+            raise ResultsError(f"{path}: not JSON: {exc}") from None
         try:
             return cls.from_dict(data)
-        except (KeyError, TypeError) as exc:
-            raise ValueError(f"{path}: not a ptpcert results object ({exc})") from None
+        except ResultsError as exc:
+            raise ResultsError(f"{path}: {exc}") from None
+
+
+class ResultsError(ValueError):
+    """A saved results object that ptpcert cannot read; the message names the key."""
+
+
+# ------------------------------------------------------------------ transcripts
+#: Entries of the bytes on the line: one per byte (the runner's log, and schema 1) and
+#: their runs (schema 2).
+BYTE_KINDS = {"byte": "bytes", "char_error": "char_errors"}
+RUN_KINDS = {run: one for one, run in BYTE_KINDS.items()}
+
+
+def pack_transcript(log: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
+    """A transcript with one entry per byte as runs: consecutive bytes of one side, kind
+    and step become one entry ``{"t", "dir", "kind": "bytes" | "char_errors", "step",
+    "base64": "AhA=", "times": [...]}`` (the bytes in base64, RFC 4648: a flood's 20000
+    bytes take 27 kB, not 40 kB as hex), ``times`` only where the bytes' times differ from
+    ``t``. Every other entry (BREAK, windows, marks) is kept as it is."""
+    out: list[dict[str, Any]] = []
+    cur: dict[str, Any] | None = None
+    data = bytearray()
+    times: list[float] = []
+
+    def flush() -> None:
+        nonlocal cur
+        if cur is not None:
+            cur["base64"] = base64.b64encode(bytes(data)).decode("ascii")
+            if any(t != times[0] for t in times):
+                cur["times"] = list(times)
+            out.append(cur)
+            cur = None
+
+    for e in log:
+        kind = e.get("kind")
+        if kind in BYTE_KINDS:
+            run = BYTE_KINDS[kind]
+            d, step = e.get("dir", "tester"), e.get("step", 0)
+            if cur is None or cur["kind"] != run or cur["dir"] != d or cur["step"] != step:
+                flush()
+                cur = {"t": e["t"], "dir": d, "kind": run, "step": step}
+                data, times = bytearray(), []
+            data.append(int(e["byte"]) & 0xFF)
+            times.append(e["t"])
+        else:
+            flush()
+            out.append(dict(e))
+    flush()
+    return out
+
+
+def unpack_transcript(transcript: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Inverse of :func:`pack_transcript`: one entry per byte again (entries of schema 1
+    pass unchanged), for tools that read a transcript byte by byte."""
+    out: list[dict[str, Any]] = []
+    for e in transcript:
+        kind = e.get("kind")
+        if kind not in RUN_KINDS:
+            out.append(e)
+            continue
+        one, data = RUN_KINDS[kind], run_bytes(e)
+        times = e.get("times") or [e["t"]] * len(data)
+        base = {k: v for k, v in e.items() if k not in ("kind", "base64", "times", "t")}
+        out.extend({**base, "t": times[i], "kind": one, "byte": b} for i, b in enumerate(data))
+    return out
+
+
+def run_bytes(e: dict[str, Any]) -> bytes:
+    """The bytes of a run entry."""
+    text = e.get("base64")
+    if not isinstance(text, str):
+        raise TypeError("base64 missing")
+    return base64.b64decode(text, validate=True)
+
+
+def wire_runs(transcript: Iterable[dict[str, Any]]) -> list[tuple[float, str, str, Any, int]]:
+    """The bytes, character errors and BREAKs of a transcript (runs, or one entry per byte)
+    as ``(t, dir, kind, value, step)`` in time order (equal times keep the log's order):
+    ``kind`` "byte" or "char_error" with ``value`` the bytes that arrived together at ``t``
+    (a run whose bytes share one time stays whole), or "break" with its duration."""
+    out: list[tuple[float, str, str, Any, int]] = []
+    for e in transcript:
+        kind = e.get("kind")
+        if kind in RUN_KINDS:
+            one, d, step = RUN_KINDS[kind], e.get("dir", "tester"), int(e.get("step", 0))
+            data = run_bytes(e)
+            times = e.get("times")
+            if times:
+                out.extend((float(x), d, one, data[i:i + 1], step) for i, x in enumerate(times))
+            elif data:
+                out.append((float(e["t"]), d, one, data, step))
+        elif kind in BYTE_KINDS and "t" in e:
+            out.append((float(e["t"]), e.get("dir", "tester"), kind, bytes([int(e.get("byte", 0)) & 0xFF]),
+                        int(e.get("step", 0))))
+        elif kind == "break" and "t" in e:
+            out.append((float(e["t"]), e.get("dir", "tester"), "break", float(e.get("duration", 0.0)),
+                        int(e.get("step", 0))))
+    out.sort(key=lambda x: x[0])
+    return out
+
+
+def wire_events(transcript: Iterable[dict[str, Any]]) -> list[tuple[float, str, str, Any, int]]:
+    """As :func:`wire_runs`, one entry per byte: ``value`` is the byte (an int)."""
+    out: list[tuple[float, str, str, Any, int]] = []
+    for t, d, kind, value, step in wire_runs(transcript):
+        if kind == "break":
+            out.append((t, d, kind, value, step))
+        else:
+            out.extend((t, d, kind, b, step) for b in value)
+    return out
+
+
+def dropped_note(e: dict[str, Any]) -> str:
+    """The words for a ``dropped`` entry: bytes the transcript does not keep."""
+    who = "the IUT" if e.get("dir") == "iut" else "the tester"
+    return (f"{e.get('bytes', 0)} more byte(s) from {who} not kept: the transcript keeps the first "
+            f"{e.get('kept', 0)} (flood limit)")
+
+
+# ------------------------------------------------------------------ checking saved results
+def _kind_of(annotation: str) -> tuple[type, ...]:
+    a = str(annotation)
+    if a.startswith("list"):
+        return (list,)
+    if a.startswith("dict"):
+        return (dict,)
+    return {"str": (str,), "float": (int, float), "int": (int,), "bool": (bool,)}.get(a, (object,))
+
+
+def _type_name(types: tuple[type, ...]) -> str:
+    return {list: "a list", dict: "an object", str: "a string", int: "an integer", float: "a number",
+            bool: "true or false"}.get(types[-1], "a value")
+
+
+def _is(value: Any, types: tuple[type, ...]) -> bool:
+    if isinstance(value, bool) and bool not in types:
+        return False
+    if isinstance(value, float) and float in types and not math.isfinite(value):
+        return False
+    return isinstance(value, types)
+
+
+def _check_run(d: Any) -> None:
+    if not isinstance(d, dict):
+        what = "an array" if isinstance(d, list) else f"a {type(d).__name__}"
+        raise ResultsError(f"not a ptpcert results object: the JSON is {what}, not an object with "
+                           f"\"schema\": \"{SCHEMA}\"")
+    if d.get("schema") not in SCHEMAS:
+        raise ResultsError(f"schema: {d.get('schema')!r} is not a ptpcert results object "
+                           f"(readable: {', '.join(SCHEMAS)})")
+    for f in fields(RunResult):
+        if f.name in d and f.name != "cases" and not _is(d[f.name], _kind_of(f.type)):
+            raise ResultsError(f"{f.name}: must be {_type_name(_kind_of(f.type))}")
+    cases = d.get("cases")
+    if not isinstance(cases, list):
+        raise ResultsError("cases: missing, or not a list of cases")
+    required = ("id", "title", "reference", "rule", "group", "iut_role")
+    for i, c in enumerate(cases):
+        where = f"cases[{i}]"
+        if not isinstance(c, dict):
+            raise ResultsError(f"{where}: must be an object")
+        for key in required:
+            if key not in c:
+                raise ResultsError(f"{where}.{key}: missing")
+        for f in fields(CaseResult):
+            if f.name in c and f.name != "divergence" and not _is(c[f.name], _kind_of(f.type)):
+                raise ResultsError(f"{where}.{f.name}: must be {_type_name(_kind_of(f.type))}")
+        where = f"cases[{i}] ({c['id']})"
+        if c.get("verdict", NOT_RUN) not in VERDICTS:
+            raise ResultsError(f"{where}.verdict: {c['verdict']!r} is not a verdict (allowed: {', '.join(VERDICTS)})")
+        _check_divergence(c.get("divergence"), where)
+        for name in ("transcript", "frames", "steps"):
+            for j, e in enumerate(c.get(name, [])):
+                if not isinstance(e, dict):
+                    raise ResultsError(f"{where}.{name}[{j}]: must be an object")
+        for j, e in enumerate(c.get("transcript", [])):
+            _check_entry(e, f"{where}.transcript[{j}]")
+        for name in ("observed_status", "readings", "notes"):
+            if any(not isinstance(x, str) for x in c.get(name, [])):
+                raise ResultsError(f"{where}.{name}: must be a list of strings")
+
+
+def _check_divergence(div: Any, where: str) -> None:
+    if div is None:
+        return
+    if not isinstance(div, dict):
+        raise ResultsError(f"{where}.divergence: must be an object or null")
+    for key, types in (("step", (int,)), ("time", (int, float)), ("expected", (str,)), ("observed", (str,))):
+        if not _is(div.get(key), types):
+            raise ResultsError(f"{where}.divergence.{key}: must be {_type_name(types)}")
+    w = div.get("window")
+    if w is not None and not (isinstance(w, list) and len(w) == 2 and all(_is(x, (int, float)) for x in w)):
+        raise ResultsError(f"{where}.divergence.window: must be null or [from, to] in seconds")
+
+
+def _check_entry(e: dict[str, Any], where: str) -> None:
+    for key in ("t", "t0", "t1", "duration"):
+        if key in e and not _is(e[key], (int, float)):
+            raise ResultsError(f"{where}.{key}: must be a number (seconds)")
+    if "step" in e and not _is(e["step"], (int,)):
+        raise ResultsError(f"{where}.step: must be an integer")
+    kind = e.get("kind")
+    if kind in BYTE_KINDS or kind in RUN_KINDS or kind == "break":
+        if "t" not in e:
+            raise ResultsError(f"{where}.t: missing")
+        if e.get("dir") not in ("tester", "iut"):
+            raise ResultsError(f"{where}.dir: {e.get('dir')!r} (allowed: tester, iut)")
+    if kind in BYTE_KINDS and not (_is(e.get("byte"), (int,)) and 0 <= e["byte"] <= 255):
+        raise ResultsError(f"{where}.byte: must be an integer 0..255")
+    if kind in RUN_KINDS:
+        try:
+            n = len(run_bytes(e))
+        except (TypeError, ValueError):
+            raise ResultsError(f"{where}.base64: must be the run's bytes in base64, such as \"AhA=\"") from None
+        times = e.get("times")
+        if times is not None and not (isinstance(times, list) and len(times) == n
+                                      and all(_is(x, (int, float)) for x in times)):
+            raise ResultsError(f"{where}.times: must be a list of {n} times (seconds), one per byte")
+
+
+# ------------------------------------------------------------------ writing reports
+def write_atomic(path: str | Path, text: str) -> None:
+    """Write ``text`` to ``path`` whole or not at all: into a temporary file in the same
+    directory, renamed over ``path`` when complete; the temporary file is removed whatever
+    goes wrong."""
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    tmp = p.parent / f".{p.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
+    try:
+        with open(tmp, "x", encoding="utf-8") as f:
+            f.write(text)
+        os.replace(tmp, p)
+    except BaseException:
+        try:
+            tmp.unlink()
+        except OSError:
+            pass
+        raise
+
+
+def report_path_problem(path: str | Path) -> str | None:
+    """Why a report cannot be written to ``path``, or None when it can. Checked before a
+    run starts, so that no run ends without its reports: missing directories are created,
+    and a file is created and removed in the target directory."""
+    text = str(path)
+    if not text.strip():
+        return "is empty; give a file name"
+    p = Path(path)
+    if p.is_dir():
+        return "is a directory; give a file name in it"
+    if p.exists() and not p.is_file():
+        return "exists and is not a regular file"
+    try:
+        p.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        return f"its directory {p.parent} cannot be created ({exc.strerror})"
+    probe = p.parent / f".{p.name}.{os.getpid()}.{secrets.token_hex(4)}.probe"
+    try:
+        with open(probe, "x", encoding="utf-8"):
+            pass
+    except OSError as exc:
+        return f"no file can be written in {p.parent} ({exc.strerror})"
+    try:
+        probe.unlink()
+    except OSError:
+        pass
+    return None

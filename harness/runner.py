@@ -117,6 +117,10 @@ class CaseRun:
         self.rx_log: list[int] = []   # where each received byte is in the transcript
         self.pos = 0
         self.log: list[dict] = []
+        #: bytes on the line not kept in the transcript (beyond the flood limit), per side
+        self.dropped: dict[str, int] = {}
+        self.dropped_at: dict[str, tuple[float, int]] = {}
+        self.kept: dict[str, int] = {"tester": 0, "iut": 0}
         self.grade = R.PASS
         self.forced = 0.0
         self.notes: list[str] = []
@@ -124,6 +128,7 @@ class CaseRun:
         self.sent_end = self.t0
         self.mark_time = self.t0
         self.partner_delivered: list[bytes] = []
+        self.skipping = 0
 
     # -- helpers -----------------------------------------------------------------------
     def rel(self, t: float) -> float:
@@ -134,12 +139,39 @@ class CaseRun:
 
     def _pump(self, deadline: float) -> None:
         items = self.tr.read(deadline)
-        for t, b in items:
+        limit = self.opts.flood_limit
+        room = max(0, limit - len(self.rx))
+        for t, b in items[:room]:
             self.rx.append((t, b))
             self.rx_log.append(len(self.log))
-            self.log.append({"t": self.rel(t), "dir": "iut", "kind": "byte", "byte": b, "step": self.step_index})
-        if len(self.rx) > self.opts.flood_limit:
-            raise Flood(f"the IUT sent more than {self.opts.flood_limit} bytes in one case")
+            self._record({"t": self.rel(t), "dir": "iut", "kind": "byte", "byte": b, "step": self.step_index})
+        if len(items) > room:
+            self._drop("iut", len(items) - room, items[room][0])
+            raise Flood(f"the IUT sent more than {limit} bytes in one case (the transcript keeps the first {limit})")
+
+    def _record(self, entry: dict) -> None:
+        """Log a byte, a character error or a BREAK on the line; beyond the flood limit of
+        one side, only count it (a transcript is bounded, whatever the IUT does)."""
+        d = entry["dir"]
+        if self.kept[d] >= self.opts.flood_limit:
+            self._drop(d, 1, self.t0 + entry["t"])
+            return
+        self.kept[d] += 1
+        self.log.append(entry)
+
+    def _drop(self, d: str, n: int, t: float) -> None:
+        self.dropped[d] = self.dropped.get(d, 0) + n
+        self.dropped_at.setdefault(d, (t, self.step_index))
+
+    def transcript(self) -> list[dict]:
+        """The transcript as the results keep it: bytes as runs, and a marker of what was
+        not kept."""
+        out = R.pack_transcript(self.log)
+        for d, n in self.dropped.items():
+            t, step = self.dropped_at[d]
+            out.append({"t": self.rel(t), "dir": d, "kind": "dropped", "bytes": n,
+                        "kept": self.opts.flood_limit, "step": step})
+        return out
 
     def wait_until(self, t: float) -> None:
         while self.tr.now() < t:
@@ -170,11 +202,17 @@ class CaseRun:
 
     # -- steps -------------------------------------------------------------------------
     def run_steps(self) -> None:
+        skip = 0
         for i, step in enumerate(self.steps):
+            if skip:
+                skip -= 1   # the rest of a block the IUT did not send (an optional expect's skip)
+                continue
             self.step_index = i
+            self.skipping = 0
             getattr(self, "_" + step.kind)(step)
             if step.mark:
                 self.mark_time = self.ref
+            skip = self.skipping
 
     def _send_bytes(self, step: Step, data: bytes, writer: Callable[[int], float], kind: str) -> None:
         """Send characters paced as on the line: the k-th starts at ref + at + k*(CHAR+gap)
@@ -191,7 +229,7 @@ class CaseRun:
             target = start + k * (char + gap) + char
             self.wait_until(target)
             t = writer(b)
-            self.log.append({"t": self.rel(t), "dir": "tester", "kind": kind, "byte": b, "step": self.step_index})
+            self._record({"t": self.rel(t), "dir": "tester", "kind": kind, "byte": b, "step": self.step_index})
             late = t - target
             if late > self.tol.stimulus and t - prev > critical:
                 raise TimingFault(f"step {self.step_index + 1}: the tester's byte {k + 1} went out "
@@ -213,7 +251,7 @@ class CaseRun:
         t = self.tr.send_break(dur)
         if t - target > self.tol.stimulus and t - self.ref > 0.9 * self.shortest:
             raise TimingFault(f"step {self.step_index + 1}: BREAK went out {1000 * (t - target):.1f} ms late")
-        self.log.append({"t": self.rel(t), "dir": "tester", "kind": "break", "duration": dur, "step": self.step_index})
+        self._record({"t": self.rel(t), "dir": "tester", "kind": "break", "duration": dur, "step": self.step_index})
         self.ref = self.sent_end = t + dur
         self.wait_until(self.ref)
         self.forced += at + dur
@@ -254,6 +292,7 @@ class CaseRun:
             if step.optional or step.partial:
                 if step.optional:
                     self._grade(step.absent_grade, f"step {self.step_index + 1}: optional {what} not sent")
+                    self.skipping = step.skip
                 self.forced += max(hi_nom, 0.0)  # the whole window had to be watched
                 return
             if first is None:
@@ -270,6 +309,7 @@ class CaseRun:
                 return
             if step.optional:
                 self._grade(step.absent_grade, f"step {self.step_index + 1}: optional {what} not sent")
+                self.skipping = step.skip
                 return
             self.fail(what, f"received {b:02X}", t, (self.ref + lo_nom, self.ref + hi_nom))
         if t < lo:
@@ -321,6 +361,8 @@ class CaseRun:
 
     def _prime(self, step: Step) -> None:  # pragma: no cover - expanded before running
         raise AssertionError("prime steps are expanded before the run")
+
+    _receive = _prime
 
     # -- before and after the steps ----------------------------------------------------
     def prologue(self, state: "RunnerState") -> None:
@@ -460,7 +502,7 @@ class _CaseEndpoint(Endpoint):
         w = run.tr.write(data)
         self.last = max(self.last, w)
         for b in data:
-            run.log.append({"t": run.rel(w), "dir": "tester", "kind": "byte", "byte": b, "step": run.step_index})
+            run._record({"t": run.rel(w), "dir": "tester", "kind": "byte", "byte": b, "step": run.step_index})
         return w
 
 
@@ -523,12 +565,12 @@ class Runner:
                         "does not name")
             if SETUPS not in caps:
                 return f"needs the IUT started with setup {name!r}; this transport does not start the IUT"
-        return None
+        return v.proc.unsupported_reason(v, self.profile, caps, self.factory)
 
     # -- one case ------------------------------------------------------------------
     def run_case(self, v: Vector) -> R.CaseResult:
         res = R.CaseResult(id=v.id, title=v.title, reference=v.reference, rule=v.rule, group=v.group,
-                           iut_role=v.iut_role, readings=list(v.readings), source=v.source)
+                           iut_role=v.iut_role, readings=list(v.readings), source=v.source, rules=list(v.rules))
         res.expected_status = v.expected.iut_status.describe()
         res.expected_status_codes = [sorted(f"16#{c:04X}" for c in g) for g in v.expected.iut_status.required]
         res.tester_status = v.expected.tester_status.describe()
@@ -649,7 +691,7 @@ class Runner:
                 res.stderr_tail = info.stderr[-2000:]
             res.notes.extend(info.notes)
         if run is not None:
-            res.transcript = run.log
+            res.transcript = run.transcript()
             try:
                 res.frames = v.proc.describe_frames(run.log, params)
             except Exception as exc:  # a decoder's fault must not cost the verdict
@@ -700,8 +742,10 @@ class Runner:
             for i, v in enumerate(vs):
                 if prepare is not None and i + 1 < len(vs):
                     # let the transport start what the next case needs while this one runs
+                    # (not for a case that will not run: its process would wait for nothing)
                     nxt = vs[i + 1]
-                    prepare(nxt, self.effective_params(nxt))
+                    if self.unsupported_reason(nxt, self.factory.capabilities) is None:
+                        prepare(nxt, self.effective_params(nxt))
                 c = self.run_case(v)
                 result.cases.append(c)
                 if progress:

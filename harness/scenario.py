@@ -120,9 +120,9 @@ def names_in(expr: "Expr") -> set[str]:
 ZERO = Expr("0")
 
 # ------------------------------------------------------------------ steps
-STEP_KINDS = ("send", "send_error", "break", "wait", "expect", "silence", "prime", "partner")
+STEP_KINDS = ("send", "send_error", "break", "wait", "expect", "silence", "prime", "receive", "partner")
 #: step kinds whose data is a payload a procedure expands (Procedure.macro_steps)
-MACRO_KINDS = ("prime",)
+MACRO_KINDS = ("prime", "receive")
 SINCE = ("previous", "sent", "mark")
 GRADES = ("pass", "non-strict", "informational")
 _STEP_KEYS = {
@@ -131,10 +131,11 @@ _STEP_KEYS = {
     "break": {"at", "note", "mark"},
     "wait": {"note", "mark"},
     "silence": {"note", "mark"},
-    "prime": {"note"},
+    "prime": {"at", "note"},
+    "receive": {"after", "within", "optional", "absent_grade", "or", "or_grade", "since", "note"},
     "partner": {"note"},
     "expect": {"after", "within", "max_gap", "partial", "optional", "absent_grade", "or",
-               "or_grade", "since", "note", "mark"},
+               "or_grade", "since", "note", "mark", "skip"},
 }
 
 
@@ -154,7 +155,12 @@ class Step:
       byte strings accepted in the same window (graded ``alt_grade``).
     * ``silence``: the IUT sends nothing for ``duration``.
     * ``prime``: the tester delivers the payload ``data`` as a conforming sender would
-      (STX, DLE, block, DLE); expanded into send/expect steps by :func:`expand`.
+      (STX, DLE, block, DLE), its STX ``at`` after the reference point; expanded into
+      send/expect steps by :func:`expand`.
+    * ``receive``: the IUT sends the payload ``data`` (or one of ``alternatives``) and the
+      tester receives it as a conforming receiver would: the IUT's STX in [``after``,
+      ``within``], the tester's DLE, the block, the tester's DLE. ``optional``: the IUT may
+      send nothing (graded ``absent_grade``). Expanded by the procedure.
     * ``partner``: for at most ``duration``, the tester plays a conforming station with the
       vector's ``tester_params``, answering whatever the IUT sends, until both are idle and
       the line is quiet (used where the exact bytes depend on timing, e.g. a configuration
@@ -182,24 +188,27 @@ class Step:
     since: str = "previous"
     mark: bool = False
     note: str = ""
+    #: an optional expect that sees nothing skips this many of the following steps (the
+    #: rest of a macro step it begins, e.g. the tester's replies to a block not sent)
+    skip: int = 0
 
     def to_toml(self) -> dict[str, Any]:
         d: dict[str, Any] = {}
-        if self.kind in ("send", "send_error", "expect", "prime"):
+        if self.kind in ("send", "send_error", "expect", "prime", "receive"):
             d[self.kind] = vector_hex(self.data)
         else:
             d[self.kind] = str(self.duration)
-        if self.kind in ("send", "send_error", "break") and self.at != ZERO:
+        if self.kind in ("send", "send_error", "break", "prime") and self.at != ZERO:
             d["at"] = str(self.at)
         if self.kind == "send" and self.gap != ZERO:
             d["gap"] = str(self.gap)
-        if self.kind == "expect":
+        if self.kind in ("expect", "receive"):
             if self.since != "previous":
                 d["since"] = self.since
             if self.after != ZERO:
                 d["after"] = str(self.after)
             d["within"] = str(self.within)
-            if self.max_gap != Expr("CDT"):
+            if self.kind == "expect" and self.max_gap != Expr("CDT"):
                 d["max_gap"] = str(self.max_gap)
             if self.partial:
                 d["partial"] = True
@@ -207,6 +216,8 @@ class Step:
                 d["optional"] = True
                 if self.absent_grade != "pass":
                     d["absent_grade"] = self.absent_grade
+            if self.skip:
+                d["skip"] = self.skip
             if self.alternatives:
                 d["or"] = [vector_hex(a) for a in self.alternatives]
                 if self.alt_grade != "pass":
@@ -286,7 +297,7 @@ class Vector:
     start: str = "idle"
     requires: frozenset[str] = frozenset()
     readings: tuple[str, ...] = ()       # ambiguities (A-numbers) the vector depends on
-    provenance: str = ""                 # [S] stated, [F] figure, [I] inferred (3964r.md §0.2)
+    provenance: str = ""                 # [S] stated, [F] figure, [I] inferred, [O] open point
     notes: str = ""
     source: str = ""                     # file the vector was loaded from
     #: parameters the vector's bytes depend on; a profile must match them to run it
@@ -301,6 +312,8 @@ class Vector:
     setup: tuple[str, dict[str, Any]] | None = None
     #: procedure-specific data (e.g. RK 512 requests and results), a TOML table
     extra: dict[str, Any] = field(default_factory=dict)
+    #: ids of the manual's rules the vector checks (the procedure's catalogue, ptpcert.rules)
+    rules: tuple[str, ...] = ()
 
     @property
     def proc(self):
@@ -331,6 +344,8 @@ class Vector:
             d["start"] = self.start
         if self.requires:
             d["requires"] = sorted(self.requires)
+        if self.rules:
+            d["rules"] = list(self.rules)
         if self.readings:
             d["readings"] = list(self.readings)
         if self.provenance:
@@ -376,7 +391,7 @@ class VectorError(ValueError):
 
 
 _ID = re.compile(r"^[A-Z0-9][A-Z0-9.\-_]*$")
-_TOP_KEYS = {"id", "title", "reference", "rule", "group", "iut_role", "start", "requires",
+_TOP_KEYS = {"id", "title", "reference", "rule", "rules", "group", "iut_role", "start", "requires",
              "readings", "provenance", "notes", "binds", "params", "tester_params", "expected", "steps",
              "timing_sensitive", "procedure", "setup", "extra"}
 _EXPECTED_KEYS = {"iut_status", "iut_status_optional", "tester_status", "tester_status_optional",
@@ -455,6 +470,13 @@ def vector_from_dict(raw: dict[str, Any], source: str = "<vector>") -> Vector:
         bad = next((r for r in readings if r not in proc.readings), readings) if isinstance(readings, list) else readings
         raise err("readings", f"{bad!r}: a list of the manual's open points this procedure has readings for "
                   f"({proc.readings[0]}..{proc.readings[-1]})" if proc.readings else "this procedure has no readings")
+    rules = raw.get("rules", [])
+    if not isinstance(rules, list) or any(not isinstance(r, str) for r in rules):
+        raise err("rules", "a list of rule ids such as [\"3964.RX.BCC-CHECK\"] (ptpcert rules lists them)")
+    unknown_rules = proc.rules().unknown(rules)
+    if unknown_rules:
+        raise err("rules", f"{unknown_rules[0]!r} is not a rule of the {proc.title} catalogue "
+                  "(ptpcert rules lists them)")
     for key in ("provenance", "notes"):
         if key in raw and not isinstance(raw[key], str):
             raise err(key, "must be a string")
@@ -471,7 +493,7 @@ def vector_from_dict(raw: dict[str, Any], source: str = "<vector>") -> Vector:
         readings=tuple(readings), provenance=raw.get("provenance", ""),
         notes=raw.get("notes", "").strip(), source=source, binds=tuple(binds),
         tester_params=tester_params, timing_sensitive=raw.get("timing_sensitive", False),
-        procedure=proc.id, setup=setup, extra=dict(extra),
+        procedure=proc.id, setup=setup, extra=dict(extra), rules=tuple(rules),
     )
     check_times(v, err)
     return v
@@ -615,12 +637,12 @@ def _step(raw: Any, fld: str, err, proc=None) -> Step:
     if extra:
         raise err(f"{fld}.{extra[0]}", f"not allowed in a {kind} step (allowed: {', '.join(sorted(_STEP_KEYS[kind]))})")
     kw: dict[str, Any] = {"kind": kind, "note": raw.get("note", "")}
-    if kind in ("send", "send_error", "expect", "prime"):
+    if kind in ("send", "send_error", "expect", "prime", "receive"):
         kw["data"] = _hex(raw[kind], f"{fld}.{kind}", err)
-        if not kw["data"] and kind != "prime":
+        if not kw["data"] and kind not in MACRO_KINDS:
             raise err(f"{fld}.{kind}", "must not be empty")
-        if kind == "prime" and not 1 <= len(kw["data"]) <= codec.MAX_BLOCK:
-            raise err(f"{fld}.prime", "a payload of 1..1024 bytes")
+        if kind in MACRO_KINDS and not 1 <= len(kw["data"]) <= codec.MAX_BLOCK:
+            raise err(f"{fld}.{kind}", "a payload of 1..1024 bytes")
     else:
         kw["duration"] = _expr(raw[kind], f"{fld}.{kind}", err)
     for key in ("at", "gap", "after", "within", "max_gap"):
@@ -630,9 +652,15 @@ def _step(raw: Any, fld: str, err, proc=None) -> Step:
         if not isinstance(raw["mark"], bool):
             raise err(f"{fld}.mark", "must be true or false")
         kw["mark"] = raw["mark"]
-    if kind == "expect":
-        if "within" not in raw:
+    if kind == "receive" and "within" not in raw:
+        kw["within"] = Expr("ADT")
+    if kind in ("expect", "receive"):
+        if kind == "expect" and "within" not in raw:
             raise err(f"{fld}.within", "an expect step needs a window: within = \"...\"")
+        if "skip" in raw:
+            if not isinstance(raw["skip"], int) or isinstance(raw["skip"], bool) or raw["skip"] < 0:
+                raise err(f"{fld}.skip", "the number of following steps skipped when the optional bytes do not come")
+            kw["skip"] = raw["skip"]
         for key in ("partial", "optional"):
             if key in raw:
                 if not isinstance(raw[key], bool):

@@ -26,10 +26,11 @@ _NOT_DRAWN = {T.Action.IMPOSSIBLE, T.Action.IGNORE, T.Action.QUEUE_JOB}
 # ---------------------------------------------------------------------------------- text
 def table_text() -> str:
     """The table as text: one line per row that can occur (state, input, action, target,
-    STATUS code, reference), then the decisions' outcomes."""
-    rows = [(str(s), str(i), str(r.action), str(r.target), _code(r), r.ref)
+    STATUS code, reference and the ids of the rules it implements), then the decisions'
+    outcomes."""
+    rows = [(str(s), str(i), str(r.action), str(r.target), _code(r), r.ref + _rules(r))
             for s, i, r in T.rows() if r.action != T.IMPOSSIBLE]
-    outs = [(str(d), b.when, "", str(b.target), _code(b), b.ref) for d, b in T.branches()]
+    outs = [(str(d), b.when, "", str(b.target), _code(b), b.ref + _rules(b)) for d, b in T.branches()]
     impossible = sum(1 for _, _, r in T.rows() if r.action == T.IMPOSSIBLE)
     lines = []
 
@@ -45,6 +46,10 @@ def table_text() -> str:
     block(f"Decisions: {len(T.DECISIONS)} (flowchart diamonds), {len(outs)} outcomes",
           ("DECISION", "WHEN", "", "TARGET", "CODE", "REFERENCE"), outs)
     return "\n".join(lines).rstrip() + "\n"
+
+
+def _rules(e) -> str:
+    return f"  [{', '.join(e.rules)}]" if e.rules else ""
 
 
 def _code(e) -> str:

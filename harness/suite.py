@@ -36,3 +36,21 @@ def order(vectors: list[Vector], groups: tuple[str, ...]) -> list[Vector]:
     golden vectors of a group."""
     rank = {g: i for i, g in enumerate(groups)}
     return sorted(vectors, key=lambda v: (rank.get(v.group, len(rank)), not v.id.startswith("SUITE."), v.id))
+
+
+def check_expected_failures(profile: Profile, cases: list[Vector]) -> None:
+    """Every id the profile's ``[expected_failures]`` lists names a case of ``cases`` (the
+    whole suite and every vector of the run, before any selection): an id with a typo would
+    otherwise silently disable the expectation. Raises ValueError naming the id and the
+    nearest real ids."""
+    import difflib
+
+    ids = [v.id for v in cases]
+    known = set(ids)
+    for xid in profile.expected_failures:
+        if xid in known:
+            continue
+        near = difflib.get_close_matches(xid, ids, n=3, cutoff=0.6)
+        hint = f"nearest: {', '.join(near)}" if near else "no case id is close to it"
+        raise ValueError(f"{profile.path or 'profile'}: expected_failures: {xid!r} matches no case of "
+                         f"{profile.procedure.title} in this run ({hint})")

@@ -19,6 +19,8 @@ import sys
 from pathlib import Path
 
 import pytest
+
+from ptpcert.results import unpack_transcript
 from hypothesis import given, settings, strategies as st
 
 from ptpcert import capture as C
@@ -277,7 +279,7 @@ def test_each_case_of_a_run_becomes_a_capture_of_its_transcript(sim_results):
     kinds = set()
     for case in run["cases"]:
         cap = C.load(sim_results, case=case["id"])
-        tr = case["transcript"]
+        tr = unpack_transcript(case["transcript"])   # results.json keeps bytes as runs
         for seat, who in (("a", "tester"), ("b", "iut")):
             sent = bytes(e["byte"] for e in sorted((e for e in tr if e["dir"] == who and e["kind"] == "byte"),
                                                    key=lambda e: e["t"]))

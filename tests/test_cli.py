@@ -56,7 +56,7 @@ def test_report_renders_a_saved_run(tmp_path):
     p = cli("report", str(j), "--junit", str(tmp_path / "j.xml"), "--html", str(tmp_path / "r.html"))
     assert p.returncode == 0 and (tmp_path / "j.xml").exists() and (tmp_path / "r.html").exists()
     data = json.loads(j.read_text())
-    assert data["schema"] == "ptpcert-results/1" and all("transcript" in c for c in data["cases"])
+    assert data["schema"] == "ptpcert-results/2" and all("transcript" in c for c in data["cases"])
     bad = tmp_path / "bad.json"
     bad.write_text("{}")
     p = cli("report", str(bad))

@@ -1,5 +1,5 @@
 """Codec: DLE doubling, BCC, framing and parsing, checked against the manual's examples
-(3964r.md §4.2, §4.3) and both ways with hypothesis."""
+(Fig. 2-4 and blocks with data DLEs, §2.2.2 Block check character) and both ways with hypothesis."""
 
 import pytest
 from hypothesis import given, strategies as st

@@ -95,7 +95,8 @@ def test_bad_usage(tmp_path):
 
 
 def test_rules_named_for_the_divergence():
-    assert "§8.2" in rule_for(["begin_reception", "RECEIVE_ENTRY"], 0x10)
-    assert "§8.1 item 3" in rule_for(["quiet_nak"], 0x15)
-    assert "§7.1 item 6" in rule_for(["setup_timeout", "SETUP_CHECK"], 0x15)
-    assert "§7.3-7.4" in rule_for(["release_refused", "TX_CHECK"], 0x02)
+    assert "3964.RX.SETUP-DLE" in rule_for(["begin_reception", "RECEIVE_ENTRY"], 0x10)
+    assert "3964.IDLE.STRAY-NAK" in rule_for(["quiet_nak"], 0x15)
+    assert "3964.TX.SETUP-FINAL-NAK" in rule_for(["setup_timeout", "SETUP_CHECK"], 0x15)
+    assert "3964.TX.ATTEMPTS" in rule_for(["release_refused", "TX_CHECK"], 0x02)
+    assert "Fig. 2-10" in rule_for(["release_refused", "TX_CHECK"], 0x02)

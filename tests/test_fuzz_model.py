@@ -9,7 +9,7 @@ every step:
 * no deadlock: once the longest chain of timers has run out, both are idle;
 * every requested block is delivered exactly once and unchanged, or its failure is
   reported with a STATUS code the situation allows; with faults on the line a block may
-  arrive twice (a lost final DLE) or altered in a way the BCC cannot see (3964r.md §4.4).
+  arrive twice (a lost final DLE) or altered in a way the BCC cannot see (§2.2.1 Limits of 3964R).
   One disturbance needs no fault: a station's final NAK that crosses the partner's STX
   (see ``disturbed``), which the procedure itself cannot tell from a refusal.
 
@@ -39,7 +39,7 @@ ALLOWED_FAILURES = {0x0709, 0x070A, 0x080D}
 class TwoStations(RuleBasedStateMachine):
     # setup attempts >= 2: with one attempt, our reading of A21 (the collided STX counts as
     # attempt 1) makes a low-priority station give up its job after any conflict, a
-    # legitimate 16#0709 that the manual's test advice says not to test (3964r.md §17 A21).
+    # legitimate 16#0709 that the manual's test advice says not to test (docs/readings.md, A21).
     # With more attempts it still happens after that many conflicts in a row (see starved).
     @initialize(procedure=st.sampled_from(["3964", "3964R"]), a_high=st.booleans(),
                 setup=st.integers(2, 3), tx=st.integers(1, 3),

@@ -87,6 +87,21 @@ def exchange_transcript(t0: float = 0.0) -> list[dict]:
     return tr
 
 
+def per_byte(transcript: list[dict]) -> list[dict]:
+    """A transcript of runs (results schema 2) with one entry per byte (schema 1), which the
+    views read as well: so a test can change one byte."""
+    out = []
+    for e in transcript:
+        if e.get("kind") in R.RUN_KINDS:
+            data = R.run_bytes(e)
+            times = e.get("times") or [e["t"]] * len(data)
+            out += [{"t": t, "dir": e["dir"], "kind": R.RUN_KINDS[e["kind"]], "byte": b, "step": e["step"]}
+                    for t, b in zip(times, data)]
+        else:
+            out.append(dict(e))
+    return out
+
+
 def made_case(cid="TEST.EXCHANGE", verdict=R.PASS, transcript=None, divergence=None, **kw) -> R.CaseResult:
     c = R.CaseResult(id=cid, title=f"made-up case {cid}", reference="§2.2.2 Fig. 2-6", rule="a rule & <more>",
                      group=kw.pop("group", "receive"), iut_role="receiver", verdict=verdict,
@@ -107,6 +122,7 @@ def mixed_run(full_run: R.RunResult) -> R.RunResult:
     # a failure: a real transcript, the IUT's DLE after the block replaced by NAK
     fail = copy.deepcopy(case_by_id(full_run, "3964R.FIG2-6.RECEIVE"))
     fail.id = "3964R.FIG2-6.RECEIVE-BROKEN"
+    fail.transcript = per_byte(fail.transcript)
     t_div = _nth_iut_byte_time(fail, 0x10, 2)
     for e in fail.transcript:
         if e.get("kind") == "byte" and e["dir"] == "iut" and e["t"] == t_div:
@@ -134,7 +150,7 @@ def mixed_run(full_run: R.RunResult) -> R.RunResult:
 
 
 def _nth_iut_byte_time(c: R.CaseResult, value: int, n: int) -> float:
-    ts = [e["t"] for e in c.transcript if e.get("kind") == "byte" and e["dir"] == "iut" and e["byte"] == value]
+    ts = [t for t, d, kind, b, _ in R.wire_events(c.transcript) if kind == "byte" and d == "iut" and b == value]
     return ts[n - 1]
 
 
@@ -397,7 +413,7 @@ def test_self_contained_and_escaped(full_run, tmp_path):
 
 def test_full_suite_and_large_cases_stay_under_2mb(full_run):
     run = copy.deepcopy(full_run)
-    big = [c for c in run.cases if len(c.transcript) > 1000]
+    big = [c for c in run.cases if len(R.wire_events(c.transcript)) > 1000]
     assert big, "the suite has cases with 1000-byte blocks"
     # about 100 cases, a quarter of them with 2000-byte transcripts, some failing
     while len(run.cases) < 100:
@@ -473,3 +489,41 @@ def test_screenshot_in_headless_chromium(full_run):
     assert png.stat().st_size > 20_000                      # not a blank page
     assert '<nav id="filter">' in dom
     assert re.search(f'id="{target}" data-verdict="pass"><details open', dom)
+
+
+def test_traceability_section_gives_each_rule_this_runs_verdict():
+    from ptpcert.html_rules import rule_verdicts, traceability_section
+    from ptpcert.rules import for_procedure
+
+    cat = for_procedure("3964r")
+    run = R.RunResult(tool_version="t", started="", procedure="3964/3964R",
+                      profile={"procedure": "3964R", "priority": "low", "data_bits": 8})
+    run.cases = [
+        R.CaseResult("SUITE.A", "passes", "§1", "r.", "idle", "idle", verdict=R.PASS, rules=["3964.IDLE.STRAY-NAK"]),
+        R.CaseResult("SUITE.B", "fails", "§1", "r.", "idle", "idle", verdict=R.FAIL,
+                     rules=["3964.IDLE.STRAY-NAK", "3964.START.NAK"]),
+        R.CaseResult("SUITE.C", "grades", "§1", "r.", "receive", "receiver", verdict=R.NON_STRICT,
+                     rules=["3964.RX.LENGTH"]),
+    ]
+    v = rule_verdicts(run, cat)
+    assert v["3964.IDLE.STRAY-NAK"][0] == R.FAIL and [c.id for c in v["3964.IDLE.STRAY-NAK"][1]] == ["SUITE.A", "SUITE.B"]
+    assert v["3964.START.NAK"][0] == R.FAIL and v["3964.RX.LENGTH"][0] == R.NON_STRICT
+    assert v["3964.RX.ACK"][0] == "not run" and v["3964.FRAME.INTERFACE"][0] == "untestable"
+    assert v["3964.RX.ANSWER-AT-ETX"][0] == "does not apply"   # 3964 only; this IUT is 3964R
+    section = traceability_section(run)
+    assert 'id="traceability"' in section and "3964.IDLE.STRAY-NAK" in section
+    assert '<a href="#' in section and "A17" in section and "docs/readings.md" in section
+    from ptpcert.html import render
+    page = render(run)
+    assert page.index('id="summary"') < page.index('id="traceability"') < page.index('id="cases"')
+    # a run of a procedure without a catalogue has no such section
+    other = R.RunResult(tool_version="t", started="", procedure="ASCII driver")
+    assert traceability_section(other) == ""
+
+
+def test_json_results_carry_each_cases_rule_ids(tmp_path):
+    run = R.RunResult(tool_version="t", started="")
+    run.cases = [R.CaseResult("SUITE.A", "t", "§1", "r.", "idle", "idle", verdict=R.PASS, rules=["3964.START.NAK"])]
+    run.write_json(tmp_path / "r.json")
+    back = R.RunResult.read_json(tmp_path / "r.json")
+    assert back.cases[0].rules == ["3964.START.NAK"]

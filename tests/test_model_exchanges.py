@@ -1,5 +1,5 @@
 """Two model stations wired together in virtual time, through every retry and conflict path
-(3964r.md §6-§10). Each test names the rule it checks."""
+(§2.2.2; Figs. 2-9 to 2-12). Each test names the rule it checks."""
 
 import pytest
 

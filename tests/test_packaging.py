@@ -80,6 +80,8 @@ def test_wheel_has_every_data_file_of_the_checkout(installed):
             rel = f.relative_to(ROOT / folder).as_posix()
             assert f"{prefix}/{rel}" in names, f"{folder}/{rel} is missing from the wheel"
     assert "ptpcert/status_catalogue.toml" in names
+    for f in (ROOT / "harness" / "rules").glob("*.toml"):
+        assert f"ptpcert/rules/{f.name}" in names, f"the rules catalogue {f.name} is missing from the wheel"
     tops = {n.split("/")[0] for n in names if not n.split("/")[0].endswith((".dist-info", ".data"))}
     assert tops == {"ptpcert"}, f"the wheel installs top-level names {sorted(tops)}"
 

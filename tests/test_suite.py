@@ -25,10 +25,10 @@ PY = sys.executable
 COMBOS = [(proc, prio) for proc in ("3964R", "3964") for prio in ("low", "high")]
 
 
-def run_sim(url: str, profile) -> R.RunResult:
+def run_sim(url: str, profile, max_failures: int = 0) -> R.RunResult:
     cases = load_suite(profile, load_vector_sets())
     res = R.RunResult(tool_version="test", started="")
-    Runner(make_factory(url, profile), profile, RunOptions()).run(cases, res)
+    Runner(make_factory(url, profile), profile, RunOptions()).run(cases, res, max_failures=max_failures)
     return res
 
 
@@ -47,10 +47,13 @@ def test_every_case_cites_its_rule_and_groups_follow_the_manual():
         for v in conformance.cases(reference_profile(procedure=proc, priority=prio)):
             assert v.id.startswith("SUITE.") and v.group in GROUPS
             assert v.rule.endswith(".") and len(v.rule) > 30
-            assert "3964r.md" in v.reference or "Table" in v.reference or "§" in v.reference
+            # the manual's section, figure or table; never our notes
+            assert ".md" not in v.reference and "item" not in v.reference
+            assert "Table" in v.reference or "§" in v.reference or "Fig." in v.reference
+            assert v.rules, v.id
             assert v.expected.iut_status is not None
     groups = {v.group for v in conformance.cases(reference_profile())}
-    assert {"start-up", "idle", "receive", "send", "release", "repetition", "conflict", "break",
+    assert {"start-up", "character-frame", "idle", "receive", "send", "release", "repetition", "conflict", "break",
             "character-error", "timing"} <= groups
 
 
@@ -64,7 +67,8 @@ def test_conflict_cases_follow_the_profiles_priority():
 @pytest.mark.parametrize("name", sorted(MUTANTS))
 def test_every_mutant_is_caught(name, record_property):
     m = MUTANTS[name]
-    res = run_sim(f"sim:?mutant={name}", reference_profile(**m.profile))
+    # the first case that catches it is enough here (benchmarks/kill_matrix.py lists them all)
+    res = run_sim(f"sim:?mutant={name}", reference_profile(**m.profile), max_failures=1)
     caught = sorted(c.id for c in res.cases if c.verdict == R.FAIL)
     record_property("caught_by", " ".join(caught))
     print(f"{name}: caught by {', '.join(caught)}")
@@ -77,7 +81,7 @@ def test_mutants_are_listed_with_their_rule():
     assert p.returncode == 0
     assert len(p.stdout.splitlines()) == len(MUTANTS) >= 20
     for name, m in MUTANTS.items():
-        assert name in p.stdout and "§" in m.rule or "Table" in m.rule
+        assert name in p.stdout and ("§" in m.rule or "Table" in m.rule or "Fig." in m.rule)
     p = subprocess.run([PY, "-m", "ptpcert.cli", "iut", "--mutant", "no-such"], cwd=ROOT, capture_output=True, text=True)
     assert p.returncode == 2 and "unknown mutant" in p.stderr
 
@@ -86,7 +90,9 @@ def ptpcert_run(tmp_path, iut, profile, *extra):
     prof = tmp_path / "p.toml"
     d = profile.to_dict()
     d.pop("expected_failures")
-    lines = ["[iut]"] + [f"{k} = {json.dumps(v)}" for k, v in d.items()] + ["[expected_failures]"]
+    setups = d.pop("setups")
+    lines = (["[iut]"] + [f"{k} = {json.dumps(v)}" for k, v in d.items()]
+             + ["[iut.setups]"] + [f"{k} = {json.dumps(v)}" for k, v in setups.items()] + ["[expected_failures]"])
     prof.write_text("\n".join(lines) + "\n")
     j = tmp_path / "r.json"
     p = subprocess.run([PY, "-m", "ptpcert.cli", "run", "--iut", iut, "--profile", str(prof), "--json", str(j), "-q",
@@ -106,7 +112,7 @@ def reference_iut(profile, scheme="exec", mutant=None):
                                                ("3964", "high", "pty")])
 @pytest.mark.realtime
 def test_full_suite_passes_the_real_time_reference(tmp_path, proc, prio, scheme):
-    prof = reference_profile(procedure=proc, priority=prio)
+    prof = reference_profile(procedure=proc, priority=prio, setups={"no_buffer": "--buffer full"})
     p, data = ptpcert_run(tmp_path, reference_iut(prof, scheme), prof)
     bad = {c["id"]: c["message"] for c in data["cases"] if c["verdict"] in ("fail", "error", "xpass")}
     assert p.returncode == 0 and not bad, bad
@@ -132,10 +138,15 @@ def test_real_time_mutants_are_caught(tmp_path, mutant):
 INDEPENDENT = f"{PY} {ROOT / 'tests' / 'independent' / 'iut3964.py'} --cdt-ms 20 --adt-ms 20 --parmrk"
 
 
+#: variants of the independent implementation that are no defect by the manual: accepting a
+#: block longer than 1024 bytes is graded non-strict, as the manual states no reaction (A17)
+NOT_DEFECTS = {"no-length-limit"}
+
+
 def independent_variants():
     out = subprocess.run([PY, str(ROOT / "tests/independent/iut3964.py"), "--list-breaks"],
                          capture_output=True, text=True).stdout
-    return [line.split()[0] for line in out.splitlines() if line.strip()]
+    return [line.split()[0] for line in out.splitlines() if line.strip() and line.split()[0] not in NOT_DEFECTS]
 
 
 @pytest.mark.realtime

@@ -173,6 +173,22 @@ def test_every_row_and_outcome_has_a_manual_reference():
             assert any(k in e.ref for k in ("§2.2.2", "Fig. 2-", "Table 2-", "Table 8-1")), e.ref
 
 
+def test_rows_and_outcomes_cite_rules_of_the_catalogue():
+    from ptpcert.rules import for_procedure
+    catalogue = for_procedure("3964r")
+    quiet = (T.IMPOSSIBLE, T.Action.IGNORE, T.Action.QUEUE_JOB)
+    for state, inp, row in T.rows():
+        assert not catalogue.unknown(row.rules), (state, inp, row.rules)
+        if row.action not in quiet:
+            assert row.rules, (state, inp)
+    for d, b in T.branches():
+        assert b.rules and not catalogue.unknown(b.rules), (d, b.when)
+    # every element that sends names its rule with an id, not with our notes' numbering
+    for e in ELEMENTS:
+        if e.rule:
+            assert T.rule_text(e).startswith("3964.") and "item" not in e.rule and "§" not in e.rule
+
+
 def test_codes_are_data_from_the_one_list():
     assert any(e.code for e in ELEMENTS)
     for e in ELEMENTS:
@@ -341,7 +357,7 @@ def test_rules_come_from_the_rows_that_send():
     assert rule_for(["setup_acknowledged"], 0x99) == BLOCK_RULE
     assert rule_for(["start_job", "START_CHECK"], 0x02) == T.rule_text(T.branch(T.START_CHECK, T.WAIT_SETUP_ACK))
     # the outermost step is the more specific rule: a low-priority station's DLE after a conflict
-    assert "§9 item 3" in rule_for(["initialization_conflict", "PRIORITY", "RECEIVE_ENTRY"], 0x10)
+    assert "3964.CONFLICT.LOW-DEFERS" in rule_for(["initialization_conflict", "PRIORITY", "RECEIVE_ENTRY"], 0x10)
     assert rule_for(["ignore"], 0x15) == "the reference model's behaviour"
     text = T.rule_text(T.TABLE[T.IDLE_JUNK][T.T_CDT])
     assert rule_of_note(text + " [STATUS 16#0802]") == (text, "16#0802")

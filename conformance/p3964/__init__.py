@@ -1,15 +1,16 @@
 """The 3964/3964R conformance suite: cases generated for the IUT's parameters, grouped as
-the manual is (§2.2, Figs. 2-5 to 2-12). Each module is one group; each case is a vector
-(ptpcert.scenario.Vector) that cites its rule. The golden vectors run with them."""
+the manual is (§2.1, §2.2, Figs. 2-5 to 2-12). Each module is one group of the manual; each case
+is a vector (ptpcert.scenario.Vector) that cites the ids of the rules it checks (the rules
+catalogue, ``ptpcert rules``). The golden vectors run with them."""
 
 from __future__ import annotations
 
 from ptpcert.model import Params3964
 from ptpcert.scenario import Vector
 
-from . import conflict, idle, line, receive, release, send, startup, timing
+from . import conflict, counters, frame, idle, line, receive, release, send, startup, timing
 
-GROUP_MODULES = (startup, idle, receive, send, release, conflict, line, timing)
+GROUP_MODULES = (startup, frame, idle, receive, send, release, counters, conflict, line, timing)
 
 
 def cases(params: Params3964) -> list[Vector]:

@@ -1,61 +1,105 @@
-"""Connection release and transmission attempts (§2.2.2 Send/release; Fig. 2-10;
-3964r.md §7.3-7.5)."""
+"""Connection release and transmission attempts (§2.2.2 Send/release; Fig. 2-10; Tables 2-4,
+8-1)."""
 
-from ._build import DLE, NAK, STX, body, case, echo_send, expect, h, prime, send, send_error
+from ._build import (DLE, NAK, PLAIN, RETRY, STX, body, case, echo_send, expect, long_payload, prime, send,
+                     send_error)
 
 ECHO = ["echo"]
 
 
 def cases(p):
     M = p.transmission_attempts
-    P = h("31 10 32 15 03")
+    P = PLAIN
     B = body(P, p)
     return [
         case(p, "RELEASE.NAK-RETRY", "Block refused with NAK: the IUT repeats it from STX",
-             "§2.2.2 Send/release; Table 8-1 16#0706, 16#0701; 3964r.md §7.3 item 4, §7.4 item 5",
+             "§2.2.2 Send/release; Fig. 2-10 'any character except DLE', 'W+1'; Table 8-1 16#0706, 16#0701",
              "A NAK after the end sequence is a failed transmission attempt: the sender begins again with STX (first repetition: 16#0701).",
              "repetition", "sender",
-             [prime(P), expect(STX), send(DLE), expect(B, within="CDT"), send(NAK, note="refused"),
-              expect(STX, note="the repetition")] + echo_send(P, p)[1:],
-             iut=((), ["16#0706", "16#0701"]), delivered=[P], sent=[P], requires=ECHO, provenance="[S][F]"),
+             [prime(P), expect(STX, within=RETRY), send(DLE), expect(B, within="CDT"), send(NAK, note="refused"),
+              expect(STX, within=RETRY, note="the repetition")] + echo_send(P, p)[1:],
+             iut=((), ["16#0706", "16#0701"]), delivered=[P], sent=[P], requires=ECHO, readings=["A8"],
+             provenance="[S][F]", rules=["3964.TX.RELEASE-REFUSED"]),
         case(p, "RELEASE.OTHER-RETRY", "Block answered by another character (even STX): the IUT repeats it",
-             "§2.2.2 Send/release; Table 8-1 16#0706; 3964r.md §7.3 item 4, §9 item 6",
+             "§2.2.2 Send/release; Fig. 2-10 'any character except DLE'; Table 8-1 16#0706",
              "Any character but DLE after the end sequence, STX included, is a failed transmission attempt, not a conflict.",
              "repetition", "sender",
-             [prime(P), expect(STX), send(DLE), expect(B, within="CDT"), send(STX, note="STX instead of DLE"),
-              expect(STX, note="the repetition, not a DLE")] + echo_send(P, p)[1:],
-             iut=((), ["16#0706", "16#0701"]), delivered=[P], sent=[P], requires=ECHO, provenance="[S][I]"),
+             [prime(P), expect(STX, within=RETRY), send(DLE), expect(B, within="CDT"), send(STX, note="STX instead of DLE"),
+              expect(STX, within=RETRY, note="the repetition, not a DLE")] + echo_send(P, p)[1:],
+             iut=((), ["16#0706", "16#0701"]), delivered=[P], sent=[P], requires=ECHO, readings=["A8"],
+             provenance="[S][I]", rules=["3964.TX.RELEASE-REFUSED"]),
         case(p, "RELEASE.CHARACTER-ERROR-RETRY", "Block answered by a corrupted character: the IUT repeats it",
-             "Fig. 2-10 'invalid character'; Table 8-1 16#080C; 3964r.md §7.3 item 4",
+             "Fig. 2-10 'invalid character'; Table 8-1 16#080C",
              "A character with a transmission error after the end sequence is a failed transmission attempt.",
              "character-error", "sender",
-             [prime(P), expect(STX), send(DLE), expect(B, within="CDT"), send_error("10", note="DLE with a parity error"),
-              expect(STX)] + echo_send(P, p)[1:],
-             iut=((), ["16#080C", "16#0706", "16#0701"]), delivered=[P], sent=[P], requires=ECHO, provenance="[F]"),
+             [prime(P), expect(STX, within=RETRY), send(DLE), expect(B, within="CDT"),
+              send_error("10", note="DLE with a parity error"), expect(STX, within=RETRY)] + echo_send(P, p)[1:],
+             iut=((), ["16#080C", "16#0706", "16#0701"]), delivered=[P], sent=[P], requires=ECHO, readings=["A8"],
+             provenance="[F]", rules=["3964.TX.RELEASE-CHARACTER-ERROR"]),
         case(p, "RELEASE.TIMEOUT-RETRY", "No acknowledgement after the block: repeated after ADT, not before",
-             "§2.2.2 Send/release; Table 8-1 16#0707; 3964r.md §7.3 item 4, §17 A12",
-             "When no DLE comes within ADT after the end sequence the sender repeats the block from STX.",
+             "§2.2.2 Send/release; Fig. 2-10 'start T_ADT', 'T > T_ADT'; Table 8-1 16#0707",
+             "When no DLE comes within ADT after the end sequence the sender repeats the block from STX (ADT counted from its last byte or from DLE ETX: A12).",
              "repetition", "sender",
-             [prime(P), expect(STX), send(DLE), expect(B, within="CDT", note="the tester stays silent"),
+             [prime(P), expect(STX, within=RETRY), send(DLE), expect(B, within="CDT", note="the tester stays silent"),
               expect(STX, after="ADT - CHAR", within="ADT + 2*CHAR", note="the repetition")] + echo_send(P, p)[1:],
              iut=((), ["16#0707", "16#0701"]), delivered=[P], sent=[P], requires=ECHO, readings=["A12"],
-             provenance="[S]"),
+             provenance="[S]", rules=["3964.TX.RELEASE-TIMEOUT"]),
         case(p, "RELEASE.ATTEMPTS-REFUSED", f"Every block refused: exactly {M} blocks, then one NAK",
-             "§2.2.2 Send/release; Fig. 2-10 'W+1'; Table 2-4 'including the first'; Table 8-1 16#070A; 3964r.md §7.4, §7.5",
+             "§2.2.2 Send/release; Fig. 2-10 'W+1', 'send NAK'; Table 2-4 transmission attempts; Table 8-1 16#070A",
              "The sender makes exactly 'transmission attempts' attempts, the first included, then sends NAK (16#070A).",
              "release", "sender",
-             [prime(P)] + sum(([expect(STX, note=f"attempt {i + 1}"), send(DLE), expect(B, within="CDT"), send(NAK)]
-                               for i in range(M)), []) + [expect(NAK, note="the sender's NAK")],
-             iut=(["16#0706|16#070A"], ["16#0701"]), delivered=[P], requires=ECHO, readings=["A3", "A5"],
-             provenance="[S][F]"),
+             [prime(P)] + sum(([expect(STX, within=RETRY, note=f"attempt {i + 1}"), send(DLE), expect(B, within="CDT"),
+                                send(NAK)] for i in range(M)), [])
+             + [expect(NAK, within=RETRY, note="the sender's NAK")],
+             iut=(["16#0706|16#070A"], ["16#0701"]), delivered=[P], requires=ECHO, readings=["A3", "A5", "A8", "A9"],
+             provenance="[S][F]", rules=["3964.TX.ATTEMPTS", "3964.TX.FINAL-NAK"]),
         case(p, "RELEASE.ATTEMPTS-TIMEOUT", f"No block acknowledged: {M} blocks at ADT spacing, then NAK",
-             "§2.2.2 Send/release; Table 8-1 16#0707, 16#070A; 3964r.md §7.3, §13.5 D13",
+             "§2.2.2 Send/release; Fig. 2-10 'T > T_ADT', 'W+1', 'send NAK'; Table 8-1 16#0707, 16#070A",
              "Release timeouts are counted as transmission attempts; after the last the sender sends NAK (16#0707, 16#070A).",
              "release", "sender",
-             [prime(P), expect(STX), send(DLE), expect(B, within="CDT")]
+             [prime(P), expect(STX, within=RETRY), send(DLE), expect(B, within="CDT")]
              + sum(([expect(STX, after="ADT - CHAR", within="ADT + 2*CHAR", note=f"attempt {i + 2}"), send(DLE),
                      expect(B, within="CDT")] for i in range(M - 1)), [])
              + [expect(NAK, after="ADT - CHAR", within="ADT + 2*CHAR", note="NAK")],
-             iut=(["16#0707|16#070A"], ["16#0701"]), delivered=[P], requires=ECHO, readings=["A12"],
-             provenance="[S]"),
+             iut=(["16#0707|16#070A"], ["16#0701"]), delivered=[P], requires=ECHO, readings=["A9", "A12"],
+             provenance="[S]", rules=["3964.TX.ATTEMPTS", "3964.TX.FINAL-NAK"]),
+        _mixed(p),
     ]
+
+
+def _mixed(p):
+    """Transmission attempts failing in turn by a NAK after the block, a timeout, a corrupted
+    answer, another character, a NAK during the data: one counter for all of them."""
+    M = p.transmission_attempts
+    L = long_payload(p)
+    B = body(L, p)
+    kinds = ("NAK after the block", "no answer within ADT", "a corrupted answer", "another character",
+             "NAK during the data")
+    steps = [prime(L), expect(STX, within=RETRY, note="attempt 1")]
+    for i in range(M):
+        kind = kinds[i % len(kinds)]
+        steps.append(send(DLE))
+        if kind == "NAK during the data":
+            steps += [expect(L[:10], within="CDT"), send(NAK, note="NAK during the data"),
+                      expect(B[10:], partial=True, after="-20*CHAR", within="4*CHAR", note="the IUT stops")]
+        else:
+            steps.append(expect(B, within="CDT"))
+            if kind == "NAK after the block":
+                steps.append(send(NAK, note="refused"))
+            elif kind == "a corrupted answer":
+                steps.append(send_error("10", note="DLE with a parity error"))
+            elif kind == "another character":
+                steps.append(send("41", note="not DLE"))
+        timeout = kind == "no answer within ADT"
+        window = dict(after="ADT - CHAR", within="ADT + 2*CHAR") if timeout else dict(within=RETRY)
+        last = i == M - 1
+        steps.append(expect(NAK if last else STX, note=("the sender's NAK" if last else f"attempt {i + 2}")
+                            + f" (after {kind})", **window))
+    return case(p, "RELEASE.ATTEMPTS-MIXED", f"Transmission attempts failing in different ways: {M} in all, then NAK",
+                "Table 2-4 transmission attempts ('including the first'); Fig. 2-10 'W := 1', 'W+1', 'send NAK'",
+                "Failures after the block (NAK, another or a corrupted character, no answer) and in the data (NAK) count in the one transmission counter: exactly 'transmission attempts' blocks, then NAK.",
+                "release", "sender", steps,
+                iut=(["16#0706|16#0707|16#080C|16#0704|16#070A"],
+                     ["16#0701", "16#0704", "16#0706", "16#0707", "16#080C", "16#070A"]),
+                delivered=[L], requires=ECHO, readings=["A3", "A5", "A8", "A9", "A12"], provenance="[S][F]",
+                rules=["3964.TX.ATTEMPTS"])

@@ -1,4 +1,4 @@
-"""Pure byte-level codec for 3964 / 3964R blocks (3964r.md §2-§4).
+"""Pure byte-level codec for 3964 / 3964R blocks (§2.2.2 Control characters, Block check character; Figs. 2-4 to 2-6).
 
 Everything here is a function of its arguments: no state, no time, no I/O.
 """
@@ -28,12 +28,12 @@ _SINGLE = bytes((DLE,))
 
 
 def stuff(payload: bytes) -> bytes:
-    """Double every data DLE (§3 item 1). Other control values pass unchanged (§3 item 3)."""
+    """Double every data DLE (§2.2.2 Control characters, Note). Other control values pass unchanged."""
     return bytes(payload).replace(_SINGLE, _DOUBLE)
 
 
 def unstuff(data: bytes) -> bytes:
-    """Undo :func:`stuff`: every ``DLE DLE`` pair becomes one DLE (§3 item 2).
+    """Undo :func:`stuff`: every ``DLE DLE`` pair becomes one DLE (Fig. 2-12 'dual DLE').
 
     Raises :class:`FrameError` when a DLE is not followed by a second DLE, since that is
     not the image of any payload.
@@ -53,7 +53,7 @@ def unstuff(data: bytes) -> bytes:
 
 
 def bcc(stuffed_data: bytes) -> int:
-    """Block check character over the bytes *as transmitted* (§4.1).
+    """Block check character over the bytes *as transmitted* (§2.2.2 Block check character, Note).
 
     ``stuffed_data`` is everything after STX up to, but not including, DLE ETX; the end
     sequence DLE ETX is included in the XOR here. STX is never part of it, a doubled DLE
@@ -69,7 +69,7 @@ def payload_bcc(payload: bytes) -> int:
 
 def body(payload: bytes, procedure: str) -> bytes:
     """What a sender transmits after the partner's DLE: stuffed data, DLE ETX and, for
-    3964R, the BCC (§2.2, Figs. 2-5/2-6)."""
+    3964R, the BCC (Figs. 2-5/2-6)."""
     _check_procedure(procedure)
     stuffed = stuff(payload)
     out = stuffed + _END

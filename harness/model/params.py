@@ -1,4 +1,4 @@
-"""Parameters of a 3964 / 3964R station (3964r.md §11: Tables 2-3, 2-4, 2-5).
+"""Parameters of a 3964 / 3964R station (Tables 2-3, 2-4, 2-5).
 
 :class:`Params3964` is frozen and validated on construction; an invalid setting raises
 :class:`ParameterError` naming the parameter, the value and the allowed range.
@@ -19,7 +19,7 @@ TIMER_MAX_MS = 655_350
 TIMER_STEP_MS = 10
 ATTEMPTS_RANGE = (1, 255)
 
-#: Fixed receiver timers (§11.5; Figs. 2-11, 2-12): not parameters.
+#: Fixed receiver timers (§2.2.2 Receive; Figs. 2-11, 2-12): not parameters.
 T_NAKTIM = 0.400
 T_BLOCK = 4.0
 
@@ -112,7 +112,7 @@ class Params3964:
     # -- derived values -------------------------------------------------------------
     @property
     def line(self) -> LineSettings:
-        """The serial line's settings: baud rate and character frame (§1 item 2)."""
+        """The serial line's settings: baud rate and character frame (Table 2-5)."""
         return LineSettings(self.baud_rate, self.data_bits, self.parity, self.stop_bits)
 
     @property

@@ -184,7 +184,7 @@ class Station3964:
         self._input(T.INVALID, value)
 
     def line_break(self, now: float) -> None:
-        """A BREAK condition on the receive line (§10 item 5)."""
+        """A BREAK condition on the receive line (§2.2.2 Error handling)."""
         self._at(now, strict=True)
         self._input(T.BREAK)
 
@@ -562,7 +562,7 @@ class Station3964:
 
     def _body(self, payload: bytes) -> bytes:
         """What follows the partner's DLE: the data with every DLE doubled, DLE ETX and, for
-        3964R, the BCC over all of it (§3, §4.1)."""
+        3964R, the BCC over all of it (§2.2.2 Control characters, Block check character)."""
         stuffed = stuff(payload)
         body = stuffed + _END
         if self.params.has_bcc:

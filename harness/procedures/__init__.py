@@ -5,8 +5,9 @@ from __future__ import annotations
 
 from ..procedure import Procedure, ProcedureError
 from .p3964 import P3964
+from .rk512 import Rk512
 
-PROCEDURES: tuple[Procedure, ...] = (P3964(),)
+PROCEDURES: tuple[Procedure, ...] = (P3964(), Rk512())
 
 
 def by_name(name: str) -> Procedure:

@@ -21,7 +21,7 @@ LINE_DEFAULTS = {"baud_rate": 9600, "data_bits": 8, "parity": "even", "stop_bits
 _CHOICES = {"priority": ("low", "high"), "parity": ("none", "odd", "even")}
 _KEY_OF = {v: k for k, v in _KEYS.items()}
 
-GROUPS = ("start-up", "idle", "receive", "send", "release", "repetition", "conflict",
+GROUPS = ("start-up", "character-frame", "idle", "receive", "send", "release", "repetition", "conflict",
           "break", "character-error", "timing", "regression")
 
 
@@ -133,7 +133,7 @@ class P3964(Procedure):
         proc = params.procedure
         note = step.note or f"the tester delivers {codec.hexstr(step.data)} as a conforming sender"
         return [
-            Step("send", bytes([codec.STX]), note=f"STX ({note})"),
+            Step("send", bytes([codec.STX]), at=step.at, note=f"STX ({note})"),
             Step("expect", bytes([codec.DLE]), within=Expr("ADT"), note="DLE: setup acknowledged"),
             Step("send", codec.body(step.data, proc), note="block: data, DLE ETX" + (", BCC" if proc == "3964R" else "")),
             Step("expect", bytes([codec.DLE]), within=Expr("ADT"), note="DLE: block acknowledged"),
@@ -257,6 +257,23 @@ class P3964(Procedure):
     def analyzer(self, params_a: Params3964, params_b: Params3964, *, apps=None, late_ms: float = 50.0):
         from .p3964_analysis import Analyzer3964
         return Analyzer3964(self, {"a": params_a, "b": params_b}, dict(apps or {}), late_ms)
+    # -- the traceability matrix --------------------------------------------------------
+    def rule_settings(self) -> list[tuple[str, dict[str, Any], dict[str, Any]]]:
+        """Both variants in both priorities with the default 8-bit frame, and 3964R with a
+        7-bit frame, each at the bundled reference's timers."""
+        base = {"procedure": "3964R", "priority": "low", "character_delay_ms": 20, "acknowledgement_delay_ms": 20,
+                "setup_attempts": 6, "transmission_attempts": 6, "send_trigger": "echo",
+                "line_conditions": "parmrk", "status_from_stderr": True}
+        out = []
+        for proc, prio, bits in (("3964R", "low", 8), ("3964R", "high", 8), ("3964", "low", 8),
+                                 ("3964", "high", 8), ("3964R", "low", 7)):
+            values = {"procedure": proc, "priority": prio, "data_bits": bits}
+            label = f"{proc} {prio}" + ("" if bits == 8 else f" {bits} data bits")
+            out.append((label, values, {**base, **values}))
+        return out
+
+    def setting_values(self, params: Params3964) -> dict[str, Any]:
+        return {"procedure": params.procedure, "priority": params.priority, "data_bits": params.data_bits}
 
     # -- broken variants and fuzzing ------------------------------------------------------
     def mutants(self) -> Mapping[str, Mutant]:

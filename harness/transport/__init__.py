@@ -3,14 +3,17 @@ into a factory that gives the runner a transport for each case."""
 
 from __future__ import annotations
 
+import re
 import shutil
 import tempfile
+import time
 from typing import Any, Callable
 
 from .base import (BREAK, CHAR_ERROR, RESTART, SETUPS, STATUS, CloseInfo, IUTDied, Transport,
                    TransportError)
 
-SCHEMES = "exec:COMMAND, pty:COMMAND (with {port}), sim:[?options], or a pyserial URL / device path"
+SCHEMES = ("exec:COMMAND, pty:COMMAND (with {port}), sim:[?options], a pyserial URL (rfc2217://HOST:PORT, "
+           "socket://HOST:PORT, ...) or a device path (/dev/ttyUSB0)")
 
 
 class Factory:
@@ -38,17 +41,36 @@ class ProcessFactory(Factory):
     """Starts a fresh IUT process per case. Processes are started ahead: ``prespawn`` of the
     plain command while the current case runs, so their start-up overlaps its waits, and
     the next case's own when the runner announces it (:meth:`prepare`) and it needs a
-    command of its own (a setup, a request script)."""
+    command of its own (a setup, a request script). A process handed out is the caller's
+    to close; one started ahead and not used within ``max_idle`` seconds is stopped and
+    replaced (30 s: longer than a case at the manual's default timers takes, so a run never
+    throws a process away, and a bound on how long one can wait for nothing), and
+    :meth:`release` stops every one started ahead (a caller that pauses, such as the fuzzer
+    between rounds), so that none outlives its use."""
 
     def __init__(self, cls, command: str, parmrk: bool, status: bool, prespawn: int = 2,
-                 command_for: Callable[[Any, str], str | None] | None = None):
+                 command_for: Callable[[Any, str], str | None] | None = None,
+                 start_ahead: Callable[[Any], bool] | None = None, max_idle: float = 30.0):
         self.cls, self.command, self.parmrk, self.status = cls, command, parmrk, status
         probe = cls(command, parmrk=parmrk, status=status)
         super().__init__(None, probe.capabilities | ({SETUPS} if command_for else frozenset()))
         self.prespawn = int(prespawn)
+        self.max_idle = max_idle
         self._command_for = command_for
-        self._ready: dict[str, list[Transport]] = {}
+        self._start_ahead = start_ahead
+        self._ready: dict[str, list[tuple[float, Transport]]] = {}
         self._workdir: str | None = None
+        self._plain: str | None = None
+
+    @property
+    def plain(self) -> str:
+        """The command as a case without needs of its own runs it: the template as the
+        procedure completes it (e.g. with an empty RK 512 request script)."""
+        if self._plain is None:
+            self._plain = self.command
+            if self._command_for is not None:
+                self._plain = self._command_for(None, self.workdir) or self.command
+        return self._plain
 
     @property
     def workdir(self) -> str:
@@ -59,10 +81,11 @@ class ProcessFactory(Factory):
 
     def command_for(self, vector) -> str:
         if vector is None or self._command_for is None:
-            return self.command
+            return self.plain
         cmd = self._command_for(vector, self.workdir)
         if cmd is None:
-            raise TransportError(f"case {vector.id}: the profile has no setup {vector.setup[0]!r}")
+            what = f"setup {vector.setup[0]!r}" if vector.setup else "what the case needs"
+            raise TransportError(f"case {vector.id}: the profile has no {what}")
         return cmd
 
     def _started(self, command: str) -> Transport:
@@ -70,34 +93,65 @@ class ProcessFactory(Factory):
         t.open()
         return t
 
+    def _ahead(self, command: str) -> None:
+        self._ready.setdefault(command, []).append((time.monotonic(), self._started(command)))
+
+    def _take(self, command: str) -> Transport | None:
+        ready = self._ready.get(command)
+        while ready:
+            since, t = ready.pop(0)
+            if time.monotonic() - since <= self.max_idle:
+                return t
+            t.close()   # waited too long: stopped, not kept alive for a case that may never come
+        return None
+
     def __call__(self, vector, params: Any) -> Transport:
         cmd = self.command_for(vector)
-        ready = self._ready.get(cmd)
-        t = ready.pop(0) if ready else self._started(cmd)
-        plain = self._ready.setdefault(self.command, [])
+        t = self._take(cmd) or self._started(cmd)
+        self.reap()
+        plain = self._ready.setdefault(self.plain, [])
         while len(plain) < self.prespawn:
             try:
-                plain.append(self._started(self.command))
+                self._ahead(self.plain)
             except TransportError:
                 break
         return t
 
     def prepare(self, vector, params: Any) -> None:
-        """The runner's next case: start its IUT now if it needs a command of its own."""
+        """The runner's next case: start its IUT now if it needs a command of its own (and
+        may be started ahead: the procedure says)."""
+        if self._start_ahead is not None and not self._start_ahead(vector):
+            return
         try:
             cmd = self.command_for(vector)
         except TransportError:
             return
-        if cmd != self.command and not self._ready.get(cmd):
+        if cmd != self.plain and not self._ready.get(cmd):
             try:
-                self._ready.setdefault(cmd, []).append(self._started(cmd))
+                self._ahead(cmd)
             except TransportError:
                 pass
 
-    def shutdown(self) -> None:
+    def reap(self) -> None:
+        """Stop the processes started ahead that have waited longer than ``max_idle``."""
+        now = time.monotonic()
+        for ready in self._ready.values():
+            for item in [x for x in ready if now - x[0] > self.max_idle]:
+                ready.remove(item)
+                item[1].close()
+
+    def release(self) -> None:
+        """Stop every process started ahead (the caller will not start a case soon)."""
         for ready in self._ready.values():
             while ready:
-                ready.pop().close()
+                ready.pop()[1].close()
+
+    def alive(self) -> int:
+        """How many processes started ahead are waiting."""
+        return sum(len(r) for r in self._ready.values())
+
+    def shutdown(self) -> None:
+        self.release()
         self._ready.clear()
         if self._workdir is not None:
             shutil.rmtree(self._workdir, ignore_errors=True)
@@ -129,6 +183,29 @@ def sim_factory(procedure, options: dict[str, str] | None = None, *, readings=No
     return Factory(make, SimTransport.capabilities | caps, virtual=True)
 
 
+_SCHEME = re.compile(r"^([A-Za-z][A-Za-z0-9+.-]*):")
+
+
+def check_scheme(url: str) -> None:
+    """A URL that is none of ours and no pyserial URL (``NAME://`` with a pyserial URL
+    handler) is a typo (``exce:``), not a device: say which schemes there are."""
+    m = _SCHEME.match(url)
+    if not m:
+        return   # a device path (/dev/ttyUSB0, COM3)
+    scheme = m.group(1)
+    if url.startswith(scheme + "://"):
+        import importlib.util
+        try:
+            if importlib.util.find_spec(f"serial.urlhandler.protocol_{scheme.lower()}") is not None:
+                return
+        except (ImportError, ValueError):
+            pass
+    import difflib
+    near = difflib.get_close_matches(scheme, ["exec", "pty", "sim", "rfc2217", "socket", "loop"], n=1)
+    hint = f"did you mean {near[0]}:? " if near else ""
+    raise TransportError(f"--iut {url}: unknown scheme {scheme + ':'!r}; {hint}valid: {SCHEMES}")
+
+
 def make_factory(url: str, profile, *, prespawn: int = 2) -> Factory:
     """Turn an ``--iut`` URL into a :class:`Factory` for the IUT ``profile`` describes."""
     url = url.strip()
@@ -146,7 +223,7 @@ def make_factory(url: str, profile, *, prespawn: int = 2) -> Factory:
         def command_for(vector, workdir: str) -> str | None:
             return proc.command(cmd, vector, profile.setups, workdir)
         cls = ExecTransport if scheme == "exec" else PtyTransport
-        return ProcessFactory(cls, cmd, parmrk, status, prespawn, command_for)
+        return ProcessFactory(cls, cmd, parmrk, status, prespawn, command_for, proc.start_ahead)
     if url.startswith("sim:"):
         from .sim import parse_sim_url
         opts = parse_sim_url(url)
@@ -155,6 +232,7 @@ def make_factory(url: str, profile, *, prespawn: int = 2) -> Factory:
         except ValueError as exc:
             raise TransportError(f"{url}: {exc}") from None
         return sim_factory(proc, opts, url=url)
+    check_scheme(url)
     from .serialport import SerialTransport
     shared = SerialTransport(url, profile.line)
     shared.open()

@@ -28,11 +28,12 @@ class TransportError(RuntimeError):
 
 
 class IUTDied(RuntimeError):
-    """The IUT process ended during a case."""
+    """The IUT left the line during a case: its process ended, or (``returncode`` None) it
+    closed its side of the line while it kept running."""
 
-    def __init__(self, returncode: int | None, stderr_tail: str):
+    def __init__(self, returncode: int | None, stderr_tail: str, message: str | None = None):
         self.returncode, self.stderr_tail = returncode, stderr_tail
-        super().__init__(f"the IUT process ended (exit status {returncode})")
+        super().__init__(message or f"the IUT process ended (exit status {returncode})")
 
 
 @dataclass
@@ -98,6 +99,8 @@ class StatusParser:
         self.keep_lines = keep_lines
         self.reports: list[tuple[float, int]] = []
         self.lines: list[tuple[float, str]] = []
+        #: STATUS lines beyond ``keep_lines`` in one case, counted but not kept
+        self.dropped = 0
 
     def feed(self, t: float, data: bytes) -> None:
         self.text += data
@@ -105,10 +108,16 @@ class StatusParser:
             del self.text[: len(self.text) - self.keep]
         buf = self._partial + data
         *lines, self._partial = buf.split(b"\n")
+        # an IUT that writes without end of line: keep the start of the line only (a STATUS
+        # line is short), so memory and time stay bounded
+        self._partial = self._partial[:4096]
         for line in lines:
             m = STATUS_LINE.search(line)
             if m:
-                self.reports.append((t, int(m.group(1), 16)))
+                if len(self.reports) < self.keep_lines:
+                    self.reports.append((t, int(m.group(1), 16)))
+                else:
+                    self.dropped += 1
             if len(self.lines) < self.keep_lines:
                 self.lines.append((t, line[:4096].decode("utf-8", "replace").rstrip("\r")))
 

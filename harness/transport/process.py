@@ -38,6 +38,13 @@ def _kill_leftovers() -> None:  # the last line of defence: no IUT outlives the 
             t.close()
         except Exception:
             pass
+        proc = t.proc   # also one whose close() was cut short (e.g. by Ctrl-C)
+        if proc is not None and proc.poll() is None:
+            try:
+                os.killpg(proc.pid, signal.SIGKILL)
+                proc.wait(timeout=2.0)
+            except (OSError, subprocess.TimeoutExpired):
+                pass
 
 
 def _nonblocking(fd: int) -> None:
@@ -189,7 +196,11 @@ class ProcessTransport(Transport):
             pass
         self._drain_stderr()
         self._check_startup_failure()
-        raise IUTDied(self.proc.poll(), self.parser.tail())
+        rc = self.proc.poll()
+        if rc is None:
+            raise IUTDied(None, self.parser.tail(), "the IUT closed its side of the line (end of file on its "
+                          "output) but its process keeps running")
+        raise IUTDied(rc, self.parser.tail())
 
     def status_reports(self) -> list[tuple[float, int]]:
         if self.proc is not None and not self._closed:
@@ -241,6 +252,9 @@ class ProcessTransport(Transport):
             pass
         info.returncode = proc.returncode
         info.stderr = self.parser.tail()
+        if self.parser.dropped:
+            info.notes.append(f"{self.parser.dropped} further STATUS line(s) on the IUT's stderr not kept "
+                              f"(at most {self.parser.keep_lines} per case)")
         _LIVE.discard(self)
         return info
 
@@ -292,6 +306,17 @@ class PtyTransport(ProcessTransport):
                 self._died()
             out = super().read(min(deadline, self.now() + 0.25))
         return out
+
+    def line_settings(self) -> dict | None:
+        """The character frame the IUT set on the pseudo-terminal, in the profile's terms
+        (baud_rate, data_bits, parity, stop_bits), with only the fields this system's ptys
+        keep (:mod:`ptpcert.line_frame`); for a case that compares it with the profile."""
+        from ..line_frame import pty_keeps, read_frame
+        try:
+            frame = read_frame(self.slave)
+        except (OSError, AttributeError):
+            return None
+        return {k: v for k, v in frame.items() if k in pty_keeps()}
 
     def _close_line(self) -> None:
         for fd in (self.master, self.slave):

@@ -1,14 +1,14 @@
 #!/usr/bin/env python3
 """Independent 3964 / 3964R station (SIMATIC CP 341 procedure), written from
-/work/shared/spec/3964r.md only.
+a written description of the manual's rules only, by someone who did not see ptpcert.
 
 Serial line = stdin (received bytes) / stdout (transmitted bytes), binary.
 STATUS events go to stderr as "STATUS 16#XXXX".
 Application: echo -- every block received without error is submitted as a
 new send job with the same user data.
 
-Spec references in comments: "§n" = section of 3964r.md, "Rn"/"Sn" = rows of
-the state tables in §12, "An" = ambiguity entries of §17.
+Spec references in comments: "§n" = section of the author's description, "Rn"/"Sn" =
+rows of its state tables, "An" = the open points as docs/readings.md numbers them.
 
 Readings chosen for ambiguities (see also README.md):
   A1  default ADT for 3964 = 550 ms (table value).

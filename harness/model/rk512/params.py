@@ -19,6 +19,7 @@ ROLES = ("passive", "active")
 REQUEST_MODES = ("script", "none")
 MEMORY_MODES = ("pattern", "unknown")
 _MAX_AREA = 65536
+_LINE_FIELDS = frozenset(f.name for f in fields(Params3964) if f.init)
 
 
 def default_response_time_ms(baud_rate: int | None) -> int:
@@ -119,6 +120,13 @@ class Rk512Params:
             ms = default_response_time_ms(self.line.baud_rate)
         object.__setattr__(self, "t_res", ms / 1000.0)
 
+    def __getattr__(self, name: str) -> Any:
+        # the link's parameters by their names (priority, cdt_ms, setup_attempts...), so that
+        # a vector may bind them like a 3964R vector does
+        if name in _LINE_FIELDS:
+            return getattr(self.line, name)
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
     # -- the link's timing, for drivers that see only this object --------------------------
     @property
     def char_time(self) -> float:
@@ -142,9 +150,16 @@ class Rk512Params:
 
     def with_(self, **changes: Any) -> "Rk512Params":
         """A copy with some fields changed (re-validated). Changing ``link`` alone carries
-        the line parameters over to the new procedure."""
+        the line parameters over to the new procedure. The link's own parameters may be
+        changed by their names too (``priority``, ``cdt_ms``...; ``procedure`` is the
+        link)."""
+        line_changes = {k: changes.pop(k) for k in list(changes) if k in _LINE_FIELDS}
+        if "procedure" in line_changes:
+            changes.setdefault("link", line_changes.pop("procedure"))
         if "link" in changes and "line" not in changes and self.line.procedure != changes["link"]:
             changes["line"] = self.line.with_(procedure=changes["link"])
+        if line_changes:
+            changes["line"] = changes.get("line", self.line).with_(**line_changes)
         return replace(self, **changes)
 
     def to_dict(self) -> dict[str, Any]:

@@ -1,0 +1,242 @@
+"""The manual's rules as data: one catalogue per procedure (``<procedure>.toml`` files here,
+e.g. ``p3964.toml``), for the traceability matrix.
+
+A :class:`Catalogue` holds a procedure's :class:`Rule` s, each with a stable id (``3964.RX.BCC-CHECK``),
+the manual's section, figure or table, one sentence in our own words, where it applies
+(variant, priority, character frame), the open points it depends on, and - for the few rules
+that a tester on the line cannot see - why it is untestable. Cases, vectors and the model's
+transition table cite rule ids; ``ptpcert rules`` prints the matrix and checks that every
+testable rule has a case (:mod:`ptpcert.traceability`). The catalogue also gives each open
+point of the manual (``A1`` ...) in short, with the grade a case gives an IUT that takes
+another defensible reading (:class:`Reading`; the full text is ``docs/readings.md``).
+
+Standard library only: the reports read it too.
+"""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from dataclasses import dataclass, field
+from functools import lru_cache
+from importlib import resources
+from typing import Any, Iterable, Iterator
+
+#: the dimensions a rule of the 3964(R) catalogue may be restricted to, with every value each
+#: can take; a catalogue declares its own in a [dimensions] table (these are the default)
+DIMENSIONS: dict[str, tuple[Any, ...]] = {
+    "procedure": ("3964", "3964R"),
+    "priority": ("low", "high"),
+    "data_bits": (7, 8),
+}
+ROLES = ("sender", "receiver", "idle", "any")
+PROVENANCE = ("S", "F", "I", "O")
+#: how a case grades an IUT that takes another reading of an open point than the model:
+#: pass / non-strict / informational (accepted, with that grade); fail (the other reading is
+#: a slip of the source, not defensible); profile (the profile states the value, e.g. a
+#: default); none (no effect on the line)
+READING_GRADES = ("pass", "non-strict", "informational", "fail", "profile", "none")
+_ID = re.compile(r"^[0-9A-Z]+(\.[0-9A-Z][0-9A-Z\-]*)+$")
+_READING = re.compile(r"^A[1-9][0-9]*$")
+
+
+class CatalogueError(ValueError):
+    """A catalogue file is broken (a packaging or editing fault)."""
+
+
+@dataclass(frozen=True)
+class Rule:
+    id: str
+    ref: str
+    text: str
+    provenance: str
+    role: str
+    #: where the rule applies (and is checked): each dimension's allowed values
+    applies: dict[str, tuple[Any, ...]] = field(default_factory=dict)
+    readings: tuple[str, ...] = ()
+    #: why the rule cannot be checked on the line; empty: it is checked
+    untestable: str = ""
+    notes: str = ""
+
+    @property
+    def testable(self) -> bool:
+        return not self.untestable
+
+    def applies_to(self, setting: dict[str, Any]) -> bool:
+        """Whether the rule applies to an IUT with these settings (procedure, priority,
+        data_bits; a dimension missing from ``setting`` matches)."""
+        for dim, values in self.applies.items():
+            if dim in setting and setting[dim] not in values:
+                return False
+        return True
+
+    def scope(self) -> str:
+        """Where it applies, for people ("3964R only, priority low"); "" when everywhere."""
+        parts = []
+        for dim, values in self.applies.items():
+            if dim == "procedure":
+                parts.append(" and ".join(values) + " only")
+            elif dim == "priority":
+                parts.append("priority " + " and ".join(values))
+            elif dim == "data_bits":
+                parts.append(" and ".join(map(str, values)) + " data bits")
+            else:
+                parts.append(dim.replace("_", " ") + " " + " and ".join(map(str, values)))
+        return ", ".join(parts)
+
+
+@dataclass(frozen=True)
+class Reading:
+    """One open point of the manual, in short."""
+
+    id: str
+    question: str
+    model: str          # the reading the reference model takes
+    grade: str          # how a case grades an IUT that takes another defensible reading
+
+
+@dataclass(frozen=True)
+class Catalogue:
+    procedure: str      # the procedure's id (ptpcert.procedure.Procedure.id)
+    title: str
+    prefix: str         # every rule id starts with it and a dot
+    manual: str
+    rules: tuple[Rule, ...]
+    readings: dict[str, Reading] = field(default_factory=dict)
+    #: the settings of an IUT a rule may be restricted to (profile keys) and their values
+    dimensions: dict[str, tuple[Any, ...]] = field(default_factory=lambda: dict(DIMENSIONS))
+
+    def __iter__(self) -> Iterator[Rule]:
+        return iter(self.rules)
+
+    def __len__(self) -> int:
+        return len(self.rules)
+
+    def __contains__(self, rule_id: object) -> bool:
+        return rule_id in self._by_id
+
+    @property
+    def _by_id(self) -> dict[str, Rule]:
+        cached = self.__dict__.get("_index")
+        if cached is None:
+            cached = {r.id: r for r in self.rules}
+            object.__setattr__(self, "_index", cached)
+        return cached
+
+    def get(self, rule_id: str) -> Rule:
+        try:
+            return self._by_id[rule_id]
+        except KeyError:
+            raise KeyError(f"{rule_id!r} is not a rule of the {self.title} catalogue") from None
+
+    def unknown(self, ids: Iterable[str]) -> list[str]:
+        """The ids of ``ids`` that are not rules of this catalogue."""
+        return [i for i in ids if i not in self._by_id]
+
+
+EMPTY = Catalogue(procedure="", title="", prefix="", manual="", rules=())
+
+
+def _list(raw: dict[str, Any], key: str, where: str) -> tuple:
+    v = raw.get(key, [])
+    if not isinstance(v, list):
+        raise CatalogueError(f"{where}: {key} must be a list")
+    return tuple(v)
+
+
+def parse(raw: dict[str, Any], source: str = "<catalogue>") -> Catalogue:
+    """A catalogue from its TOML table; every fault names the rule and the field."""
+    for key in ("procedure", "title", "prefix", "manual"):
+        if not isinstance(raw.get(key), str) or not raw[key]:
+            raise CatalogueError(f"{source}: {key} missing")
+    prefix = raw["prefix"]
+    dims_raw = raw.get("dimensions", DIMENSIONS)
+    if not isinstance(dims_raw, dict) or any(not isinstance(v, (list, tuple)) or not v for v in dims_raw.values()):
+        raise CatalogueError(f"{source}: [dimensions] is a table of profile key = [its values]")
+    dimensions = {k: tuple(v) for k, v in dims_raw.items()}
+    rules: list[Rule] = []
+    seen: set[str] = set()
+    readings_raw = raw.get("reading", {})
+    for i, r in enumerate(raw.get("rule", [])):
+        rid = r.get("id", "")
+        where = f"{source}: rule[{i}] {rid}"
+        if not isinstance(rid, str) or not _ID.match(rid) or not rid.startswith(prefix + "."):
+            raise CatalogueError(f"{where}: id must be {prefix}.AREA.NAME in capitals")
+        if rid in seen:
+            raise CatalogueError(f"{where}: id used twice")
+        seen.add(rid)
+        unknown = set(r) - {"id", "ref", "text", "provenance", "role", "readings", "untestable", "notes",
+                            *dimensions}
+        if unknown:
+            raise CatalogueError(f"{where}: unknown field {sorted(unknown)[0]}")
+        for key in ("ref", "text", "provenance", "role"):
+            if not isinstance(r.get(key), str) or not r[key].strip():
+                raise CatalogueError(f"{where}: {key} missing")
+        if not r["text"].rstrip().endswith("."):
+            raise CatalogueError(f"{where}: text must be one sentence ending with a full stop")
+        if r["role"] not in ROLES:
+            raise CatalogueError(f"{where}: role {r['role']!r} (allowed: {', '.join(ROLES)})")
+        if any(p not in PROVENANCE for p in r["provenance"].split()):
+            raise CatalogueError(f"{where}: provenance is letters of {' '.join(PROVENANCE)}")
+        applies = {}
+        for dim, values in dimensions.items():
+            if dim in r:
+                got = _list(r, dim, where)
+                if not got or any(v not in values for v in got):
+                    raise CatalogueError(f"{where}: {dim} must list values of {values}")
+                applies[dim] = got
+        readings = _list(r, "readings", where)
+        bad = [a for a in readings if a not in readings_raw]
+        if bad:
+            raise CatalogueError(f"{where}: reading {bad[0]} is not in the catalogue's [reading] tables")
+        untestable = r.get("untestable", "")
+        if not isinstance(untestable, str):
+            raise CatalogueError(f"{where}: untestable must be the reason, a string")
+        rules.append(Rule(rid, r["ref"].strip(), r["text"].strip(), r["provenance"], r["role"], applies,
+                          readings, untestable.strip(), r.get("notes", "").strip()))
+    readings: dict[str, Reading] = {}
+    for rid, x in readings_raw.items():
+        where = f"{source}: reading {rid}"
+        if not _READING.match(rid):
+            raise CatalogueError(f"{where}: open points are named A1, A2, ...")
+        for key in ("question", "model", "grade"):
+            if not isinstance(x.get(key), str) or not x[key]:
+                raise CatalogueError(f"{where}: {key} missing")
+        if x["grade"] not in READING_GRADES:
+            raise CatalogueError(f"{where}: grade {x['grade']!r} (allowed: {', '.join(READING_GRADES)})")
+        readings[rid] = Reading(rid, x["question"], x["model"], x["grade"])
+    return Catalogue(raw["procedure"], raw["title"], prefix, raw["manual"], tuple(rules), readings, dimensions)
+
+
+@lru_cache(maxsize=None)
+def catalogues() -> tuple[Catalogue, ...]:
+    """Every catalogue bundled with ptpcert (one per procedure that has one)."""
+    out = []
+    for entry in sorted(resources.files(__name__).iterdir(), key=lambda e: e.name):
+        if entry.name.endswith(".toml"):
+            try:
+                raw = tomllib.loads(entry.read_text("utf-8"))
+            except tomllib.TOMLDecodeError as exc:
+                raise CatalogueError(f"{entry.name}: not valid TOML: {exc}") from None
+            out.append(parse(raw, entry.name))
+    return tuple(out)
+
+
+def for_procedure(procedure_id: str) -> Catalogue:
+    """The catalogue of a procedure (by its id, e.g. ``3964r``); :data:`EMPTY` if it has none."""
+    for c in catalogues():
+        if c.procedure == procedure_id:
+            return c
+    return EMPTY
+
+
+def for_rule(rule_id: str) -> Catalogue | None:
+    """The catalogue a rule id belongs to (by its prefix), or None."""
+    for c in catalogues():
+        if rule_id.startswith(c.prefix + "."):
+            return c
+    return None
+
+
+__all__ = ["Catalogue", "CatalogueError", "DIMENSIONS", "EMPTY", "READING_GRADES", "Reading", "Rule",
+           "catalogues", "for_procedure", "for_rule", "parse"]

@@ -1,0 +1,88 @@
+"""The RK 512 fuzzer, level 2 (ptpcert fuzz with an RK 512 profile): every generated
+example, replayed against the model itself, passes (no false findings) for every link,
+priority and role set; a broken variant yields a finding, shrunk and written as a vector
+that fails the variant and passes the model; the run names its procedure's kit."""
+
+import subprocess
+
+import pytest
+from hypothesis import HealthCheck, Phase, given, settings, strategies as st
+
+from ptpcert import results as R
+from ptpcert.fuzz_rk512 import KIT_RK512, RkGenerator
+from ptpcert.procedures import by_id
+from ptpcert.runner import RunOptions, Runner
+from ptpcert.scenario import load_dir
+from ptpcert.transport import make_factory
+
+from rk512_profiles import PY, ROOT, rk_profile, rk_profile_dict, write_profile
+
+SMALL = dict(t_res=500, db_bytes=512, byte_area_bytes=256, cell_area_cells=256)
+
+
+@pytest.mark.parametrize("link,prio,extra", [("3964R", "low", {}), ("3964", "high", {}),
+                                             ("3964R", "high", {"roles": ["passive"]}),
+                                             ("3964R", "low", {"memory": "unknown", "roles": ["active"]})])
+def test_generated_examples_agree_with_the_model(link, prio, extra):
+    prof = rk_profile(link, prio, **{**SMALL, **extra})
+    gen = RkGenerator(prof)
+    runner = Runner(make_factory("sim:", prof), prof, RunOptions(check_status=True))
+    seen = {"frames": 0, "requests": 0}
+
+    @settings(max_examples=60, deadline=None, database=None, phases=[Phase.generate],
+              suppress_health_check=list(HealthCheck))
+    @given(st.data())
+    def check(data):
+        v = gen(data).vector("FUZZ.T", "t", "")
+        r = runner.run_case(v)
+        assert r.verdict == R.PASS, r.message
+        seen["frames"] += sum(s.kind in ("prime", "receive") for s in v.steps)
+        seen["requests"] += len(v.extra.get("requests", []))
+
+    check()
+    assert seen["frames"] > 60
+    assert (seen["requests"] > 0) == ("active" in prof.params.roles)
+
+
+def test_the_kit_is_the_procedures_and_knows_the_open_points():
+    assert by_id("rk512").fuzz_kit() is KIT_RK512 and KIT_RK512.check_reports
+    fields = set(KIT_RK512.readings.__dataclass_fields__)
+    for name, change in KIT_RK512.alternatives:
+        assert name in by_id("rk512").readings and set(change) <= fields
+
+
+def fuzz(*args, timeout=300):
+    return subprocess.run([PY, "-m", "ptpcert.cli", "fuzz", *args], cwd=ROOT, capture_output=True, text=True,
+                          timeout=timeout)
+
+
+@pytest.mark.realtime
+@pytest.mark.parametrize("mutant", ["counter-letter-c", "send-response-with-data"])
+def test_a_broken_variant_yields_a_finding_saved_as_a_vector(tmp_path, mutant):
+    raw = rk_profile_dict(**SMALL)
+    prof_file = write_profile(tmp_path / "p.toml", raw)
+    out = tmp_path / "found"
+    p = fuzz("--iut", f"sim:?mutant={mutant}", "--profile", str(prof_file), "--budget", "20", "--seed", "2",
+             "--export", str(out))
+    assert p.returncode == 1, p.stdout[-3000:] + p.stderr
+    assert "FINDING" in p.stdout and "transcript (shrunk)" in p.stdout
+    vectors = load_dir(out)
+    assert vectors
+    prof = rk_profile(**SMALL)
+    for v in vectors:
+        assert v.procedure == "rk512" and v.group == "regression" and v.id.startswith("FUZZ.")
+        for url, want in (("sim:", R.PASS), (f"sim:?mutant={mutant}", R.FAIL)):
+            res = Runner(make_factory(url, prof), prof, RunOptions()).run_case(v)
+            assert res.verdict == want, (url, res.message)
+    chk = subprocess.run([PY, "-m", "ptpcert.cli", "vectors", "--check", "--dir", str(out)], cwd=ROOT,
+                         capture_output=True, text=True)
+    assert chk.returncode == 0, chk.stdout + chk.stderr
+
+
+@pytest.mark.realtime
+def test_the_unbroken_model_yields_nothing(tmp_path):
+    raw = rk_profile_dict(**SMALL)
+    prof_file = write_profile(tmp_path / "p.toml", raw)
+    p = fuzz("--iut", "sim:", "--profile", str(prof_file), "--budget", "8", "--seed", "4", "--export", str(tmp_path))
+    assert p.returncode == 0, p.stdout[-3000:] + p.stderr
+    assert "0 finding(s)" in p.stdout
