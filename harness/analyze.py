@@ -88,6 +88,7 @@ class Cause:
     late: float
     code: int | None = None
     what: str = ""           # the character's name for people, e.g. "DLE" or "the block"
+    rules: tuple[str, ...] = ()   # ids of the rules in the procedure's catalogue (ptpcert rules)
 
 
 @dataclass(frozen=True)
@@ -250,10 +251,12 @@ class Finding:
     codes: tuple[int, ...] = ()
     readings: tuple[str, ...] = ()
     notes: list[str] = field(default_factory=list)
+    rules: tuple[str, ...] = ()       # ids of the rules broken, from the procedure's catalogue
 
     def text(self, seats: dict[str, str] | None = None) -> str:
         who = f"seat {self.seat}" + (f" ({seats[self.seat]})" if seats and seats.get(self.seat) not in (None, self.seat) else "")
-        return f"{who}: {self.message}"
+        ids = f" [rule {', '.join(self.rules)}]" if self.rules else ""
+        return f"{who}: {self.message}{ids}"
 
 
 class Item(NamedTuple):
@@ -614,7 +617,7 @@ class SeatRun:
             if j.end is not None and hi > j.end:
                 # the recording ended before the byte was due: nothing to judge
                 self.failed = Finding(j.seat, p, R.INFORMATIONAL, "end", cause.rule, cause.reference,
-                                      f"the recording ends before {name} was due")
+                                      f"the recording ends before {name} was due", rules=cause.rules)
                 return True
             if o is not None and o.kind == "byte" and o.value == b and o.t - hi < j.analysis.rest:
                 # (what a live analysis, deciding when the window closes, calls missing)
@@ -623,28 +626,28 @@ class SeatRun:
                     f"{name} {1000 * (o.t - p):.3f} ms late (it may be {1000 * cause.late:.3f} ms late): "
                     f"{cause.rule} ({cause.reference})",
                     expected=f"{name} by {self._at(hi)}", observed=f"{name} at {self._at(o.t)}",
-                    window=(lo, hi), codes=codes)
+                    window=(lo, hi), codes=codes, rules=cause.rules)
                 return True
             got = "nothing" if o is None else f"{self._show(o)} only {1000 * (o.t - p):.3f} ms later"
             self.failed = Finding(
                 j.seat, p, R.FAIL, "missing", cause.rule, cause.reference,
                 f"{name} missing: {cause.rule} ({cause.reference}); due by {self._at(hi)}, "
                 f"the seat sent {got}",
-                expected=f"{name} at {self._at(p)}", observed=got, window=(lo, hi), codes=codes)
+                expected=f"{name} at {self._at(p)}", observed=got, window=(lo, hi), codes=codes, rules=cause.rules)
             return True
         if o.kind != "byte" or o.value != b:
             self.failed = Finding(
                 j.seat, o.t, R.FAIL, "wrong", cause.rule, cause.reference,
                 f"sent {self._show(o)} where the model sends {name}: {cause.rule} ({cause.reference})",
                 expected=f"{name} at {self._at(p)}", observed=f"{self._show(o)} at {self._at(o.t)}",
-                window=(lo, hi), codes=codes)
+                window=(lo, hi), codes=codes, rules=cause.rules)
             return True
         if o.t < lo:
             self.failed = Finding(
                 j.seat, o.t, R.FAIL, "early", cause.rule, cause.reference,
                 f"{name} {1000 * (p - o.t):.3f} ms too early: {cause.rule} ({cause.reference})",
                 expected=f"{name} at {self._at(p)}", observed=f"{name} at {self._at(o.t)}",
-                window=(lo, hi), codes=codes)
+                window=(lo, hi), codes=codes, rules=cause.rules)
             return True
         raise AssertionError("unreachable")   # pragma: no cover
 
@@ -657,7 +660,7 @@ class SeatRun:
             self.judge.seat, o.t, R.INFORMATIONAL, "timing", cause.rule, cause.reference,
             f"{name} {1000 * abs(d):.3f} ms {side}, within the capture's timing resolution "
             f"({1000 * self.res:.3f} ms) of its window: {cause.rule} ({cause.reference})",
-            expected=f"{name} at {self._at(p)}", observed=f"{name} at {self._at(o.t)}", window=(lo, hi)))
+            expected=f"{name} at {self._at(p)}", observed=f"{name} at {self._at(o.t)}", window=(lo, hi), rules=cause.rules))
 
     @staticmethod
     def _at(t: float) -> str:
@@ -679,7 +682,7 @@ class SeatRun:
                         else f"nothing, then {self.kit.name(later[1])} at {self._at(later[0])}")
         self.failed = Finding(self.judge.seat, o.t, R.FAIL, kind, cause.rule, cause.reference, msg,
                               expected=expected, observed=f"{shown} at {self._at(o.t)}",
-                              codes=(cause.code,) if cause.code else ())
+                              codes=(cause.code,) if cause.code else (), rules=cause.rules)
 
     def _peek(self, o: Item) -> tuple[float, int, Cause] | None:
         """What the model (as it was when the seat's byte began) sends next without further
@@ -907,7 +910,7 @@ class SeatJudge:
             self.seat, f.t, R.INFORMATIONAL, "reading" if v.readings is not None else "resolution", f.rule,
             f.reference, f"{f.message} - but the model {v.description} follows the seat",
             expected=f.expected, observed=f.observed, window=f.window, codes=f.codes,
-            readings=(v.name,) if v.readings is not None else ()))
+            readings=(v.name,) if v.readings is not None else (), rules=f.rules))
         self.failing, self.candidates = None, []
         if cand.failed is not None:      # the recording ended: nothing more to follow
             self._take(cand)
@@ -1387,6 +1390,7 @@ def exchange_cases(line: LineAnalysis, e: Exchange, seats: dict[str, str], sourc
         c.expected_status_codes = [[f"16#{x:04X}"] for x in f.codes]
         c.tester_status = f"{raised[other]} (what a CP 341 in seat {other} raises here)"
         c.readings = list(f.readings)
+        c.rules = list(f.rules)
         c.transcript = _transcript(line, e, t0)
         if f.window is not None:
             c.transcript.append({"kind": "window", "dir": "note", "step": -1,

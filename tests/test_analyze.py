@@ -223,6 +223,22 @@ DELIBERATE = {
     "SUITE.RECEIVE.PARITY-ERROR-NAK-AT-END": "char error", "SUITE.RELEASE.CHARACTER-ERROR-RETRY": "char error",
     "SUITE.SEND.SETUP-CHARACTER-ERROR": "char error", "3964R.FIG2-7.PARITY": "char error",
     "3964R.IDLE.CHAR-ERROR": "char error",
+    # cases added with the rules catalogue, each checked against its purpose:
+    "SUITE.IDLE.QUIET-RESTARTS": "stray", "SUITE.RECEIVE.GARBAGE-DURING-BUFFER-WAIT": "stray",
+    "SUITE.COUNTERS.RECEIVE-PER-BLOCK": "BCC", "SUITE.RECEIVE.AFTER-T-BLOCK": "BCC",
+    "SUITE.RECEIVE.PARTNER-GAVE-UP": "BCC", "SUITE.RECEIVE.REPETITION-LIMIT": "BCC",
+    "SUITE.RECEIVE.ZERO-LENGTH": "length",
+    "SUITE.SEND.DLE-DURING-DATA": "interrupts", "SUITE.SEND.STX-DURING-DATA": "interrupts",
+    "SUITE.SEND.QUIET-RESTARTS": "interrupts", "SUITE.SEND.CHARACTER-ERROR-DURING-DATA": "interrupts",
+    "SUITE.COUNTERS.SETUP-PER-JOB": "refuses setup", "SUITE.SEND.SETUP-ATTEMPTS-MIXED": "refuses setup",
+    "SUITE.COUNTERS.SETUP-PER-ATTEMPT": "refuses block", "SUITE.COUNTERS.TRANSMISSION-PER-JOB": "refuses block",
+    "SUITE.RELEASE.ATTEMPTS-MIXED": "refuses block", "SUITE.SEND.SETUP-EXHAUSTED-ENDS-JOB": "refuses block",
+    "SUITE.RECEIVE.NO-FREE-BUFFER": "no repetition",
+    "SUITE.BREAK.IDLE-QUIET-WAIT": "BREAK", "SUITE.BREAK.SENDER-QUIET-WAIT": "BREAK",
+    "SUITE.BREAK.WAITING-FOR-BCC": "BREAK", "SUITE.BREAK.WAITING-FOR-BUFFER": "BREAK",
+    "SUITE.BREAK.WAITING-FOR-ETX": "BREAK", "SUITE.CONFLICT.LOW-RECEPTION-BROKEN-BY-BREAK": "BREAK",
+    "SUITE.IDLE.CORRUPTED-STX": "char error", "SUITE.RECEIVE.BCC-CHARACTER-ERROR": "char error",
+    "SUITE.RECEIVE.CHARACTER-ERROR-AFTER-DATA-DLE": "char error", "SUITE.RECEIVE.CHARACTER-ERROR-ON-ETX": "char error",
 }
 
 
@@ -280,6 +296,14 @@ BROKEN_RULE = {
 }
 
 
+#: the catalogue's id of the rule some variants break (what their first finding must name)
+BROKEN_RULE_ID = {
+    "bcc-includes-stx": "3964.TX.BCC", "bcc-dle-counted-once": "3964.TX.BCC",
+    "no-dle-doubling": "3964.TX.DLE-DOUBLING", "bcc-without-end-sequence": "3964.TX.BCC",
+}
+CATALOGUE_IDS = {r.id for r in PROC.rules().rules}
+
+
 def test_every_broken_variant_has_the_rule_it_breaks_named():
     assert set(BROKEN_RULE) == set(MUTANTS)
 
@@ -310,6 +334,10 @@ def test_a_capture_of_each_broken_variant_is_flagged_with_the_rule_it_breaks(nam
     assert {case_of(cap, f.t) for f in bad} <= {c.id for c in failed}
     first = bad[0]
     assert BROKEN_RULE[name] in first.reference + " " + first.rule, first.message
+    # rule ids, where a finding names them, are the catalogue's (ptpcert rules)
+    assert {r for f in bad for r in f.rules} <= CATALOGUE_IDS
+    if name in BROKEN_RULE_ID:
+        assert BROKEN_RULE_ID[name] in first.rules, (first.rules, first.message)
     # both seats are judged alike: the variant in seat a
     swapped = A.analyze(_swap(cap), kit_for(pb, pa, {"a": "echo", "b": "none"}), judge="a",
                         restart_at_cases={"a"})

@@ -85,6 +85,22 @@ _STATE_RULES: dict[str, tuple[str, str]] = {
                         "§2.2.2 Receive/receiving data; Fig. 2-12 'note repetition expected, start T_BLOCK'"),
 }
 
+#: the ids in the rules catalogue (ptpcert rules) of what a station in each state may send
+_STATE_RULE_IDS: dict[str, tuple[str, ...]] = {
+    T.START_UP: ("3964.START.NAK",),
+    T.IDLE: ("3964.TX.SETUP-STX", "3964.IDLE.NAK-IGNORED"),
+    T.IDLE_JUNK: ("3964.IDLE.STRAY-NAK", "3964.IDLE.QUIET-RESTARTS"),
+    T.WAIT_SETUP_ACK: ("3964.TX.SETUP-WAIT",),
+    T.SEND_DATA: ("3964.TX.BLOCK-LAYOUT", "3964.TX.NO-GAPS"),
+    T.ABORT_QUIET: ("3964.TX.DATA-OTHER", "3964.TX.QUIET-RESTARTS"),
+    T.WAIT_RELEASE_ACK: ("3964.TX.RELEASE-WAIT",),
+    T.WAIT_BUFFER: ("3964.RX.NO-BUFFER",),
+    T.RECEIVE: ("3964.RX.CDT-WAIT",),
+    T.WAIT_ETX: ("3964.RX.CDT-WAIT",),
+    T.WAIT_BCC: ("3964.RX.BCC-WAIT",),
+    T.WAIT_REPETITION: ("3964.RX.NAK-AWAITS-REPETITION",),
+}
+
 _BREAK_RULE = ("a station never sends a BREAK: the line is broken (a CP 341 on the other end returns to "
                "its initial state and raises 16#080D)",
                "§2.2.2 Error handling; Figs. 2-10 to 2-12 'BREAK'; Table 8-1 16#080D")
@@ -399,16 +415,18 @@ class Analyzer3964(ProcedureAnalyzer):
         element = T.rule_for(actions, byte)
         if element is not None:
             rule, ref, code = _sentence(element.rule), element.ref, element.code
+            ids = tuple(element.rules)
         else:
             rule, ref, code = "the model's behaviour", "§2.2.2; Figs. 2-9 to 2-12", None
+            ids = ()
         if inp in _TIMERS:
             dur = self._duration(p, inp)
             rule = f"{rule} ({inp} = {1000 * dur:g} ms)"
-            return Cause("timer", rule, ref, c + 0.05 * dur + 3e-6, self.late_abs + 0.25 * dur, code, name)
+            return Cause("timer", rule, ref, c + 0.05 * dur + 3e-6, self.late_abs + 0.25 * dur, code, name, ids)
         if inp in _LOCAL:
             # revealed by the seat's own byte (exact), or the echo application's job
             late = self._rest if inp == T.SEND_REQUEST else self.late_abs
-            return Cause("local", rule, ref, 3e-6, late, code, name)
+            return Cause("local", rule, ref, 3e-6, late, code, name, ids)
         if T.Action.SETUP_ACKNOWLEDGED in actions:
             job = st.job
             if (self.apps[seat] == "echo" and job is not None
@@ -418,10 +436,10 @@ class Analyzer3964(ProcedureAnalyzer):
                         "DLE taken once; " + rule)
                 ref = "§2.2.2 Receive/receiving data; Fig. 2-12 'dual DLE'; " + ref
             # the partner waits CDT for the first character after its DLE and between two
-            return Cause("reply", rule, ref, 3e-6, q.cdt, code)
+            return Cause("reply", rule, ref, 3e-6, q.cdt, code, rules=ids)
         if byte in (DLE, NAK) and any(x in actions for x in _ANSWER_STX + _ANSWER_BLOCK):
-            return Cause("reply", rule, ref, 3e-6, q.adt, code, name)   # the partner's T_ADT waits for it
-        return Cause("reply", rule, ref, 3e-6, self.late_abs, code, name)
+            return Cause("reply", rule, ref, 3e-6, q.adt, code, name, ids)   # the partner's T_ADT waits for it
+        return Cause("reply", rule, ref, 3e-6, self.late_abs, code, name, ids)
 
     def what(self, host: Host, entry: Any, k: int, byte: int) -> str:
         """A byte of the block the station sends, in words."""
@@ -450,12 +468,12 @@ class Analyzer3964(ProcedureAnalyzer):
         if last is not None and last.kind == "break" and item.start - last.t < self._rest:
             return Cause("reply", *_AFTER_BREAK, 0.0, 0.0, Code.LINE_BREAK)
         if item.value == STX and (run.judge.seat, run.i_obs) in self._unsendable:
-            return Cause("reply", *_LEN_RULE, 0.0, 0.0, Code.LEN_ILLEGAL)
+            return Cause("reply", *_LEN_RULE, 0.0, 0.0, Code.LEN_ILLEGAL, rules=("3964.TX.LEN-ILLEGAL",))
         if (st.state is T.WAIT_SETUP_ACK and st.params.priority == "high" and item.value == DLE
                 and last is not None and last.kind == "byte" and last.value == STX):
-            return Cause("reply", *_HIGH_KEEPS, 0.0, 0.0)
+            return Cause("reply", *_HIGH_KEEPS, 0.0, 0.0, rules=("3964.CONFLICT.HIGH-WAITS",))
         rule, ref = _STATE_RULES.get(st.state, ("the model's behaviour", "§2.2.2"))
-        return Cause("reply", rule, ref, 0.0, 0.0)
+        return Cause("reply", rule, ref, 0.0, 0.0, rules=_STATE_RULE_IDS.get(st.state, ()))
 
     def name(self, byte: int) -> str:
         return _NAMES.get(byte, f"{byte:02X}")
