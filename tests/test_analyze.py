@@ -511,3 +511,23 @@ def test_tshark_reads_the_pcap_that_run_writes(sim_run):
             wire["a" if event == "0x01" else "b"] += bytes.fromhex(data)
     assert wire["a"] == cap.wire_bytes("a") and wire["b"] == cap.wire_bytes("b")
     assert len(wire["a"]) > 1000 and "DATA_RX_START" in _tshark("-r", str(sim_run / "run.pcap"), "-c", "5")
+
+
+# ------------------------------------------------------------------ RK 512 at the link level
+
+
+def test_an_rk512_run_exported_with_pcap_is_analysed_at_the_link_level_clean_for_the_reference(tmp_path, capsys):
+    """RK 512 frames travel in 3964R blocks: until RK 512 has an analyzer of its own, a capture
+    of RK 512 traffic is judged at the link level (blocks, acknowledgements, retries), and the
+    bundled reference's seat is clean."""
+    prof = ROOT / "conformance" / "profiles" / "rk512-reference.toml"
+    rc = cli_main(["run", "--iut", "sim:", "--profile", str(prof), "--select", "SUITE.RK512.L-0*",
+                   "--pcap", str(tmp_path / "rk.pcap"), "-q"])
+    assert rc == 0
+    cap = C.load(tmp_path / "rk.pcap")
+    assert cap.wire_bytes("b").count(STX) >= 5
+    rc = cli_main(["analyze", str(tmp_path / "rk.pcap"), "--profile", str(prof), "--judge", "b",
+                   "--json", str(tmp_path / "b.json"), "-q"])
+    assert rc == 0, capsys.readouterr().out
+    res = R.RunResult.read_json(tmp_path / "b.json")
+    assert len(res.cases) >= 5 and {c.verdict for c in res.cases} == {R.PASS}
