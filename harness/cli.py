@@ -211,6 +211,8 @@ def build_parser() -> argparse.ArgumentParser:
     cli_run.add_commands(sub)
     from . import cli_capture
     cli_capture.add_commands(sub)
+    from . import cli_analyze
+    cli_analyze.add_commands(sub)
     from . import cli_rules
     cli_rules.add_commands(sub)
     return ap

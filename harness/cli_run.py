@@ -48,6 +48,9 @@ def add_commands(sub) -> None:
     r.add_argument("--junit", metavar="PATH", help="write a JUnit XML file")
     r.add_argument("--json", metavar="PATH", help="write the results object as JSON")
     r.add_argument("--html", metavar="PATH", help="write the HTML report")
+    r.add_argument("--pcap", metavar="PATH",
+                   help="write the run's wire traffic as one capture (pcap, LINKTYPE_RTAC_SERIAL) for "
+                        "Wireshark and 'ptpcert analyze'")
     r.add_argument("--vectors", action="append", default=[], metavar="DIR",
                    help="a directory of vectors to run in addition to the bundled golden vectors (repeatable)")
     r.add_argument("--vectors-only", action="store_true",
@@ -217,7 +220,7 @@ def cmd_run(args) -> int:
               + " (the HTML or JSON report of a full run lists the case ids)", file=sys.stderr)
         return 2
     # before the first case: a run must never end without the reports it was asked for
-    problem = report_paths_problem(args, ("junit", "json", "html"))
+    problem = report_paths_problem(args, ("junit", "json", "html", "pcap"))
     if problem:
         print(f"ptpcert run: {problem}", file=sys.stderr)
         return 2
@@ -288,12 +291,12 @@ def cmd_run(args) -> int:
             print(f"ptpcert run: {' '.join((startup_failure or fault).split())[:600]}", file=sys.stderr)
         else:
             print(rep.summary(result))
-        for kind in ("junit", "json", "html"):
+        for kind in ("junit", "json", "html", "pcap"):
             if getattr(args, kind) and kind in written:
                 print(f"{kind}: {getattr(args, kind)}")
         sys.stdout.flush()
         if (startup_failure or fault or result.interrupted or interrupts.count
-                or len(written) < sum(bool(getattr(args, k)) for k in ("junit", "json", "html"))):
+                or len(written) < sum(bool(getattr(args, k)) for k in ("junit", "json", "html", "pcap"))):
             return 2
     if result.counts()[R.ERROR] and result.exit_status() == 0:
         return 2
@@ -346,7 +349,13 @@ def write_reports(result, args, cmd: str) -> set[str]:
     from . import report as rep
     from .html import write_html
 
-    writers = (("junit", rep.write_junit), ("json", lambda r, p: r.write_json(p)), ("html", write_html))
+    from . import capture as C
+
+    def write_pcap(r, p) -> None:       # run --pcap: the run's wire traffic as one capture
+        C.save(C.from_results(r), p, "pcap")
+
+    writers = (("junit", rep.write_junit), ("json", lambda r, p: r.write_json(p)), ("html", write_html),
+               ("pcap", write_pcap))
     written = set()
     for kind, write in writers:
         path = getattr(args, kind, None)
@@ -357,6 +366,8 @@ def write_reports(result, args, cmd: str) -> set[str]:
             written.add(kind)
         except OSError as exc:
             print(f"ptpcert {cmd}: --{kind} {path}: cannot be written ({exc.strerror or exc})", file=sys.stderr)
+        except C.CaptureError as exc:
+            print(f"ptpcert {cmd}: --{kind} {path}: {exc}", file=sys.stderr)
     return written
 
 

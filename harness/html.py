@@ -25,7 +25,7 @@ from typing import Any, Iterable
 
 from . import results as R
 from .html_rules import traceability_section
-from .report import anchor
+from .report import anchor, step_text
 
 # ------------------------------------------------------------------ constants
 #: The manual's sections, in its order; any other group present follows, sorted.
@@ -403,7 +403,7 @@ def sequence_svg(c: R.CaseResult, events: list | None = None) -> str:
     div_text = ""
     div_lines: list[str] = []
     if div is not None:
-        div_text = (f"✗ step {div.step + 1}, {ms(div.time)} ms: expected "
+        div_text = (f"✗ {step_text(div.step)}{ms(div.time)} ms: expected "
                     f"{name_controls(abbreviate_hex(div.expected))}; "
                     f"observed {name_controls(abbreviate_hex(div.observed))}")
         div_lines = _wrap(div_text, DIV_WRAP)[:6]
@@ -575,7 +575,7 @@ def sequence_svg(c: R.CaseResult, events: list | None = None) -> str:
         texts = "".join(f'<text x="{TX + 8}" y="{yd + 17 + 14 * k:.1f}">{esc(line)}</text>'
                         for k, line in enumerate(div_lines))
         add(f'<g class="divergence" data-t="{div_t:.6f}" data-step="{div.step}"{win}>'
-            f'<title>{esc(f"first divergence: step {div.step + 1} at {ms(div.time)} ms: expected {div.expected}; observed {div.observed}")}</title>'
+            f'<title>{esc(f"first divergence: {step_text(div.step)}{ms(div.time)} ms: expected {div.expected}; observed {div.observed}")}</title>'
             f'<path d="M{AXIS_X} {yd:.1f}H{WIN_X + WIN_COLS * WIN_COL + 2}"/><circle cx="{IX}" cy="{yd:.1f}" r="5"/>'
             f'<rect class="div-box" x="{TX + 3}" y="{yd + 4:.1f}" width="{IX - TX - 6}" height="{14 * len(div_lines) + 6}"/>'
             f'{texts}' + ("" if _r(div_t) in ts_taken else
@@ -926,7 +926,7 @@ def _case(c: R.CaseResult, used: set[str]) -> str:
         d = c.divergence
         win = (f"; the window that applied: [{ms(float(d.window[0]))}, {ms(float(d.window[1]))}] ms"
                if d.window else "")
-        body.append(f'<div class="divbox"><b>first divergence</b> at step {d.step + 1}, {ms(d.time)} ms{esc(win)}:'
+        body.append(f'<div class="divbox"><b>first divergence</b> at {step_text(d.step)}{ms(d.time)} ms{esc(win)}:'
                     f"<br>expected {esc(name_controls(abbreviate_hex(d.expected)))}"
                     f"<br>observed {esc(name_controls(abbreviate_hex(d.observed)))}</div>")
     events = group_events(c.transcript)

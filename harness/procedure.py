@@ -254,6 +254,15 @@ class Procedure:
         ``label`` (e.g. "block 31 32 (2 bytes)")."""
         return []
 
+    # -- line analysis (ptpcert analyze, ptpcert monitor) ----------------------------------
+    def analyzer(self, params_a: Any, params_b: Any, *, apps: Mapping[str, str] | None = None,
+                 late_ms: float = 50.0) -> Any:
+        """The procedure's part of judging a recorded or live link between two stations
+        (:class:`ptpcert.analyze.ProcedureAnalyzer`): ``params_a``/``params_b`` are the
+        stations' parameters in seats a and b, ``apps`` their applications ("echo" or
+        "none"), ``late_ms`` how late a station may act on its own timer. None while the
+        procedure has none."""
+        return None
     # -- the rules catalogue --------------------------------------------------------------
     def rules(self) -> Any:
         """The manual's rules of this procedure as data (:class:`ptpcert.rules.Catalogue`):

@@ -26,6 +26,12 @@ def case_link(run: R.RunResult, c: R.CaseResult) -> str:
     return f"{run.html_path}#{anchor(c.id)}" if run.html_path else ""
 
 
+def step_text(step: int) -> str:
+    """ "step 3, " for a divergence at a step of a case; "" where there are no steps (a
+    prologue, or an analysis of a capture)."""
+    return f"step {step + 1}, " if step >= 0 else ""
+
+
 def transcript_text(c: R.CaseResult, tail: int = 40) -> str:
     """The last ``tail`` bytes, character errors and BREAKs of a case's transcript as text
     lines, and what the transcript did not keep."""
@@ -51,7 +57,7 @@ def failure_text(c: R.CaseResult) -> str:
     parts = [c.message]
     if c.divergence is not None:
         d = c.divergence
-        parts.append(f"first divergence at step {d.step + 1}, {d.time * 1000:.3f} ms: "
+        parts.append(f"first divergence at {step_text(d.step)}{d.time * 1000:.3f} ms: "
                      f"expected {d.expected}; {d.observed}")
     parts.append(f"expected STATUS at the IUT: {c.expected_status}")
     if c.status_checked:
@@ -185,7 +191,7 @@ def summary(run: R.RunResult) -> str:
             lines.append(f"         {c.message[:200]}")
             if c.divergence is not None:
                 d = c.divergence
-                lines.append(f"         step {d.step + 1} at {d.time * 1000:.1f} ms: expected {d.expected}; {d.observed}")
+                lines.append(f"         {step_text(d.step)}at {d.time * 1000:.1f} ms: expected {d.expected}; {d.observed}")
             link = case_link(run, c)
             if link:
                 lines.append(f"         {link}")

@@ -119,6 +119,10 @@ class P3964(Procedure):
         group.add_argument("--buffer", choices=["free", "full"], default="free",
                            help="full: the application never frees the receive buffer, so every STX gets "
                                 "NAK after 400 ms (the no_buffer setup)")
+        group.add_argument("--send", action="append", default=[], metavar="HEX",
+                           help="a block the application hands over at start-up, sent after the start-up NAK "
+                                "(repeatable; e.g. 31 32 33): with the echo application of a partner, two "
+                                "stations then keep the line busy")
 
     def params_from_iut(self, args) -> Params3964:
         try:
@@ -185,6 +189,14 @@ class P3964(Procedure):
         host = super().iut_host(params, args)
         if args.buffer == "full":
             host.station.buffer_free = False
+        for text in getattr(args, "send", ()):
+            try:
+                payload = codec.parse_hex(text)
+            except ValueError:
+                raise ProcedureError("send", f"{text!r} is not hex bytes") from None
+            # handed over before the switch-on: the job waits, and starts once the station is idle
+            if not host.station.request_send(0.0, payload):
+                raise ProcedureError("send", f"a block carries 1 to 1024 bytes, not {len(payload)}")
         return host
 
     def partner_done(self, host: Host) -> bool:
@@ -252,6 +264,10 @@ class P3964(Procedure):
                             + " / echo " + ", ".join(codec.hexstr(x) for x in echoed[1:]))
         return "pass", ""
 
+    # -- line analysis --------------------------------------------------------------------
+    def analyzer(self, params_a: Params3964, params_b: Params3964, *, apps=None, late_ms: float = 50.0):
+        from .p3964_analysis import Analyzer3964
+        return Analyzer3964(self, {"a": params_a, "b": params_b}, dict(apps or {}), late_ms)
     # -- the traceability matrix --------------------------------------------------------
     def rule_settings(self) -> list[tuple[str, dict[str, Any], dict[str, Any]]]:
         """Both variants in both priorities with the default 8-bit frame, and 3964R with a

@@ -458,6 +458,17 @@ class Rk512(Procedure):
     def describe_frames(self, transcript: list[dict[str, Any]], params: Any) -> list[dict[str, Any]]:
         return decode_blocks(transcript, params.procedure == "3964R")
 
+    # -- line analysis --------------------------------------------------------------------
+    def analyzer(self, params_a: Any, params_b: Any, *, apps=None, late_ms: float = 50.0):
+        """For now the link level only: both stations judged as the 3964(R) stations that
+        carry the RK 512 frames (blocks, acknowledgements, retries, timers, §2.2.2); a frame
+        a station sends (a command, or the response to one) is a send job the line reveals.
+        What the frames say (Table 8-3, the responses' REATEL) is not judged yet."""
+        from .p3964 import P3964
+        from .p3964_analysis import Analyzer3964
+        return Analyzer3964(P3964(), {"a": params_a.line, "b": params_b.line}, {"a": "none", "b": "none"},
+                            late_ms)
+
     # -- broken variants and fuzzing ------------------------------------------------------
     def mutants(self) -> Mapping[str, Mutant]:
         from .rk512_mutants import MUTANTS

@@ -1,0 +1,533 @@
+"""Line analysis (ptpcert analyze): both stations of a recorded link judged against the model.
+
+Captures of conforming exchanges come from two model stations wired together (model.link)
+and from runs of the suite against the model (sim:); broken ones from the broken variants
+(ptpcert.mutants) and from stations with the other reading of an open point. What a
+finding must cite is the manual's reference of the rule the variant breaks, written here
+from the manual's structure (§2.2.2's paragraphs, the figures), not copied from output."""
+
+from __future__ import annotations
+
+import json
+import random
+import shutil
+import subprocess
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+
+from ptpcert import analyze as A
+from ptpcert import capture as C
+from ptpcert import results as R
+from ptpcert.cli import main as cli_main
+from ptpcert.model import Params3964, Station3964, codec
+from ptpcert.model.link import Link
+from ptpcert.model.readings import READINGS
+from ptpcert.mutants import MUTANTS
+from ptpcert.procedures import by_name
+from ptpcert.profile import load_profile, reference_profile
+from ptpcert.runner import RunOptions, Runner
+from ptpcert.scenario import load_vector_sets
+from ptpcert.suite import load_suite
+from ptpcert.transport import make_factory
+
+ROOT = Path(__file__).resolve().parent.parent
+PROFILE = ROOT / "conformance" / "profiles" / "reference-20ms.toml"
+PROC = by_name("3964R")
+STX, DLE, ETX, NAK = codec.STX, codec.DLE, codec.ETX, codec.NAK
+
+
+# ------------------------------------------------------------------ helpers
+
+
+def link_capture(link: Link, *, start: float = 0.0) -> C.Capture:
+    """What the two stations of a link put on the line, each byte at its completion."""
+    chunks = []
+    for w in link.wire:
+        if w.start + 1e-12 < start:
+            continue
+        st = link.a if w.src == link.a.name else link.b
+        t = w.start + st.params.char_time
+        chunks.append(C.Chunk(round(t, 6), "a" if st is link.a else "b", bytes([w.byte])))
+    return C.Capture(chunks, {"a": link.a.name, "b": link.b.name}, C.LineSettings(9600, 8, "even", 1))
+
+
+def kit_for(pa: Params3964, pb: Params3964, apps=None):
+    return PROC.analyzer(pa, pb, apps=apps or {"a": "none", "b": "echo"})
+
+
+def fails(an: A.Analysis, seat: str | None = None) -> list[A.Finding]:
+    return [f for f in an.findings if f.grade == R.FAIL and (seat is None or f.seat == seat)]
+
+
+def run_suite(url: str, profile) -> R.RunResult:
+    res = R.RunResult(tool_version="test", started="", iut=url)
+    Runner(make_factory(url, profile), profile, RunOptions()).run(load_suite(profile, load_vector_sets()), res)
+    return res
+
+
+def case_of(cap: C.Capture, t: float) -> str:
+    marks = [m for m in cap.marks if m.text.startswith("case ") and m.t <= t + 1e-6]
+    return marks[-1].text.split()[1] if marks else ""
+
+
+PA = Params3964(priority="high", cdt_ms=20, adt_ms=20)
+PB = Params3964(priority="low", cdt_ms=20, adt_ms=20)
+
+
+def two_stations(pa=PA, pb=PB, *, echo=("b",), readings_b=READINGS, cls_b=Station3964) -> Link:
+    a = Station3964(pa, name="a")
+    b = cls_b(pb, readings_b, name="b") if cls_b is Station3964 else cls_b(pb, name="b")
+    link = Link(a, b, echo=set(echo))
+    link.power_on(0.0)
+    link.run_until_quiet(1.0)
+    return link
+
+
+# ------------------------------------------------------------------ conforming links are clean
+
+
+@pytest.mark.parametrize("procedure", ["3964R", "3964"])
+def test_conforming_exchanges_of_two_model_stations_are_judged_clean(procedure):
+    pa, pb = PA.with_(procedure=procedure), PB.with_(procedure=procedure)
+    link = two_stations(pa, pb)
+    rnd = random.Random(7)
+    t = link.now + 0.05
+    sent = []
+    for i in range(30):
+        # payloads rich in control characters: every DLE is doubled on the line
+        payload = bytes(rnd.choice([DLE, STX, ETX, NAK, 0x41, 0x00, 0xFF]) for _ in range(rnd.randrange(1, 20)))
+        sender = link.a if i % 3 else link.b     # both directions, b's own blocks besides its echoes
+        link.request(sender, payload, at=t)
+        link.run_until_quiet(t + 30)
+        sent.append(payload)
+        t = link.now + rnd.choice([0.001, 0.03, 0.5])
+    cap = link_capture(link)
+    an = A.analyze(cap, kit_for(pa, pb))
+    assert not an.findings, [f.message for f in an.findings]
+    # every block (and every echo of a's) is an exchange of its own, besides the start-up
+    jobs_a = sum(1 for i in range(30) if i % 3)
+    assert len(an.exchanges) == 1 + 30 + jobs_a
+    assert all(e.verdict == R.PASS for e in an.exchanges)
+
+
+def test_an_initialization_conflict_of_two_model_stations_is_judged_clean():
+    link = two_stations(echo=())
+    t = link.now + 0.05
+    for i in range(5):
+        link.request(link.a, b"HIGH", at=t)
+        link.request(link.b, b"LOW", at=t + i * 0.0002)    # the STXs cross (Fig. 2-8)
+        link.run_until_quiet(t + 30)
+        t = link.now + 0.05
+    assert sum(1 for w in link.wire if w.byte == STX) >= 10
+    an = A.analyze(link_capture(link), kit_for(PA, PB, {"a": "none", "b": "none"}))
+    assert not an.findings, [f.message for f in an.findings]
+
+
+def test_a_receiver_without_a_free_buffer_answers_late_and_is_conforming():
+    """Fig. 2-11: a receiver whose buffer is busy answers STX with DLE when it frees one,
+    or with NAK after T_NAKTIM; the analysis cannot see the buffer, and accepts both."""
+    link = two_stations(echo=())
+    t = link.now + 0.05
+    link.b.set_buffer_free(t, False)
+    link.request(link.a, b"BUSY", at=t)
+    link.run_until(t + 0.010)
+    link.b.set_buffer_free(t + 0.010, True)      # DLE 10 ms late (the sender's ADT is 20 ms)
+    link.run_until_quiet(t + 30)
+    t = link.now + 0.05
+    link.b.set_buffer_free(t, False)
+    link.request(link.a, b"FULL", at=t)          # no buffer: NAK after 400 ms, a repeats
+    link.run_until(t + 0.5)
+    link.b.set_buffer_free(link.now, True)
+    link.run_until_quiet(t + 30)
+    an = A.analyze(link_capture(link), kit_for(PA, PB, {"a": "none", "b": "none"}))
+    assert not fails(an), [f.message for f in fails(an)]
+    assert any(w.byte == NAK and w.src == "b" for w in link.wire if w.start > 0.1)
+
+
+@pytest.fixture(scope="module")
+def sim_run(tmp_path_factory):
+    """The whole suite against the model (sim:), its results and its pcap from run --pcap."""
+    d = tmp_path_factory.mktemp("simrun")
+    rc = cli_main(["run", "--iut", "sim:", "--profile", str(PROFILE), "--json", str(d / "run.json"),
+                   "--pcap", str(d / "run.pcap"), "-q"])
+    assert rc == 0
+    return d
+
+
+def test_a_run_of_the_suite_on_the_model_is_clean_for_the_iut(sim_run):
+    prof = load_profile(PROFILE)
+    cap = C.load(sim_run / "run.json")
+    kit = kit_for(PROC.tester_params(prof.params), prof.params)
+    an = A.analyze(cap, kit, judge="b", restart_at_cases={"b"})
+    assert not an.findings, [(case_of(cap, f.t), f.message) for f in an.findings]
+    assert len(an.exchanges) > 200
+
+
+def test_analyze_judges_a_run_exported_with_pcap_clean_for_the_bundled_reference(sim_run, tmp_path, capsys):
+    rc = cli_main(["analyze", str(sim_run / "run.pcap"), "--profile", str(PROFILE), "--judge", "b",
+                   "--json", str(tmp_path / "b.json"), "--junit", str(tmp_path / "b.xml"), "-q"])
+    assert rc == 0
+    res = R.RunResult.read_json(tmp_path / "b.json")
+    assert res.cases and {c.verdict for c in res.cases} == {R.PASS}
+    assert "overall PASS" in capsys.readouterr().out
+    assert (tmp_path / "b.xml").read_text().count("<testcase") == len(res.cases)
+
+
+#: The tester's deliberate deviations from what a CP 341 partner does, case by case (a review
+#: of what --judge a found, each checked against the case's purpose). A case whose tester
+#: conforms must not be here; a case that makes the tester break a rule must be.
+DELIBERATE = {
+    # stray characters in idle (§2.2.2 Receive/setup): a conforming station sends none
+    "SUITE.IDLE.STRAY-CHARACTER": "stray", "SUITE.IDLE.STRAY-DLE": "stray", "SUITE.IDLE.STRAY-ETX": "stray",
+    "SUITE.IDLE.STRAY-NUL": "stray", "SUITE.IDLE.STRAY-THEN-BLOCK": "stray", "3964R.D03.GARBAGE-IN-IDLE": "stray",
+    "3964R.D04.DLE-IN-IDLE": "stray",
+    # blocks with a wrong BCC, no BCC, DLE followed by another character (Block check character)
+    "SUITE.RECEIVE.BCC-DLE-ONCE": "BCC", "SUITE.RECEIVE.BCC-END-OMITTED": "BCC",
+    "SUITE.RECEIVE.BCC-OFF-BY-ONE-BIT": "BCC", "SUITE.RECEIVE.BCC-STX-INCLUDED": "BCC",
+    "3964R.BCC.NEG-DLE-ONCE": "BCC", "3964R.BCC.NEG-NO-END": "BCC", "3964R.BCC.NEG-STX": "BCC",
+    "3964R.FIG2-7.BCC-DLE-ONCE": "BCC", "3964R.FIG2-7.BCC-STX": "BCC", "3964R.FIG2-7.REPETITION": "BCC",
+    "SUITE.RECEIVE.REPETITION-ACCEPTED": "BCC", "3964R.RX.PARTNER-GAVE-UP": "BCC",
+    "SUITE.RECEIVE.DLE-FOLLOWED-BY-OTHER": "DLE sequence", "3964R.D08.DLE-OTHER": "DLE sequence",
+    # the tester stops inside its block or pauses beyond CDT (Receive/receiving data)
+    "SUITE.RECEIVE.CDT-AFTER-DATA-DLE": "stall", "SUITE.RECEIVE.CDT-AFTER-DLE": "stall",
+    "SUITE.RECEIVE.CDT-BEFORE-BCC": "stall", "SUITE.RECEIVE.CDT-INSIDE-DATA": "stall",
+    "3964R.D06.NOTHING-AFTER-DLE": "stall", "3964R.D07.GAP-INSIDE-DATA": "stall", "3964R.D09.BCC-MISSING": "stall",
+    "SUITE.TIMING.GAP-OVER-CDT-REFUSED": "stall",
+    # blocks no CP 341 sends: more than 1024 bytes, none (P_SND_RK LEN 1..1024)
+    "SUITE.RECEIVE.TOO-LONG-1025": "length", "3964R.RX.TOO-LONG-1025": "length", "3964R.RX.ZERO-LENGTH": "length",
+    # the tester refuses, ignores or interrupts the IUT's setup, block or release
+    "SUITE.SEND.EVERY-ATTEMPT-INTERRUPTED": "interrupts", "SUITE.SEND.NAK-DURING-DATA": "interrupts",
+    "SUITE.SEND.OTHER-DURING-DATA": "interrupts", "3964R.D14.NAK-DURING-DATA": "interrupts",
+    "3964R.D15.OTHER-DURING-DATA": "interrupts", "3964R.TX.INTERRUPTED-EVERY-ATTEMPT": "interrupts",
+    "SUITE.SEND.SETUP-ATTEMPTS-REFUSED": "refuses setup", "SUITE.SEND.SETUP-REFUSED-BY-NAK": "refuses setup",
+    "SUITE.SEND.SETUP-REFUSED-BY-OTHER": "refuses setup", "3964R.D11.SETUP-REFUSED": "refuses setup",
+    "SUITE.SEND.SETUP-ATTEMPTS-TIMEOUT": "ignores setup", "SUITE.SEND.SETUP-TIMEOUT-RETRY": "ignores setup",
+    "3964R.D10.SETUP-TIMEOUT": "ignores setup",
+    "SUITE.RELEASE.ATTEMPTS-REFUSED": "refuses block", "SUITE.RELEASE.NAK-RETRY": "refuses block",
+    "SUITE.RELEASE.OTHER-RETRY": "refuses block", "3964R.D12.RELEASE-REFUSED": "refuses block",
+    "SUITE.RELEASE.ATTEMPTS-TIMEOUT": "late release", "SUITE.RELEASE.TIMEOUT-RETRY": "late release",
+    "3964R.D13.RELEASE-TIMEOUT": "late release",
+    # the tester waits for the IUT's no-buffer NAK instead of repeating its STX after ADT
+    "3964R.D05.NO-FREE-BUFFER": "no repetition",
+    # a 3964 partner (no BCC) against the 3964R IUT: a configuration mismatch on purpose
+    "3964R.D18.MISMATCH-3964R-TO-3964": "mismatch",
+    # STXs that do not cross: the tester sends its own STX after the IUT's has arrived
+    "SUITE.CONFLICT.LOW-HALF-ADT": "late STX", "SUITE.CONFLICT.LOW-QUARTER-ADT": "late STX",
+    "SUITE.CONFLICT.LOW-THREE-QUARTERS-ADT": "late STX", "3964R.D17.CONFLICT-IUT-LOW-LATE": "late STX",
+    # BREAK and characters with errors (Error handling)
+    "SUITE.BREAK.DATA": "BREAK", "SUITE.BREAK.IDLE": "BREAK", "SUITE.BREAK.RECEPTION": "BREAK",
+    "SUITE.BREAK.RELEASE": "BREAK", "SUITE.BREAK.SETUP": "BREAK", "3964R.D21.BREAK-DURING-RECEPTION": "BREAK",
+    "SUITE.BREAK.WAITING-FOR-REPETITION": "char error", "SUITE.IDLE.CHARACTER-ERROR": "char error",
+    "SUITE.RECEIVE.PARITY-ERROR-NAK-AT-END": "char error", "SUITE.RELEASE.CHARACTER-ERROR-RETRY": "char error",
+    "SUITE.SEND.SETUP-CHARACTER-ERROR": "char error", "3964R.FIG2-7.PARITY": "char error",
+    "3964R.IDLE.CHAR-ERROR": "char error",
+    # cases added with the rules catalogue, each checked against its purpose:
+    "SUITE.IDLE.QUIET-RESTARTS": "stray", "SUITE.RECEIVE.GARBAGE-DURING-BUFFER-WAIT": "stray",
+    "SUITE.COUNTERS.RECEIVE-PER-BLOCK": "BCC", "SUITE.RECEIVE.AFTER-T-BLOCK": "BCC",
+    "SUITE.RECEIVE.PARTNER-GAVE-UP": "BCC", "SUITE.RECEIVE.REPETITION-LIMIT": "BCC",
+    "SUITE.RECEIVE.ZERO-LENGTH": "length",
+    "SUITE.SEND.DLE-DURING-DATA": "interrupts", "SUITE.SEND.STX-DURING-DATA": "interrupts",
+    "SUITE.SEND.QUIET-RESTARTS": "interrupts", "SUITE.SEND.CHARACTER-ERROR-DURING-DATA": "interrupts",
+    "SUITE.COUNTERS.SETUP-PER-JOB": "refuses setup", "SUITE.SEND.SETUP-ATTEMPTS-MIXED": "refuses setup",
+    "SUITE.COUNTERS.SETUP-PER-ATTEMPT": "refuses block", "SUITE.COUNTERS.TRANSMISSION-PER-JOB": "refuses block",
+    "SUITE.RELEASE.ATTEMPTS-MIXED": "refuses block", "SUITE.SEND.SETUP-EXHAUSTED-ENDS-JOB": "refuses block",
+    "SUITE.RECEIVE.NO-FREE-BUFFER": "no repetition",
+    "SUITE.BREAK.IDLE-QUIET-WAIT": "BREAK", "SUITE.BREAK.SENDER-QUIET-WAIT": "BREAK",
+    "SUITE.BREAK.WAITING-FOR-BCC": "BREAK", "SUITE.BREAK.WAITING-FOR-BUFFER": "BREAK",
+    "SUITE.BREAK.WAITING-FOR-ETX": "BREAK", "SUITE.CONFLICT.LOW-RECEPTION-BROKEN-BY-BREAK": "BREAK",
+    "SUITE.IDLE.CORRUPTED-STX": "char error", "SUITE.RECEIVE.BCC-CHARACTER-ERROR": "char error",
+    "SUITE.RECEIVE.CHARACTER-ERROR-AFTER-DATA-DLE": "char error", "SUITE.RECEIVE.CHARACTER-ERROR-ON-ETX": "char error",
+}
+
+
+def test_judging_the_tester_finds_exactly_the_suites_deliberate_deviations(sim_run):
+    """A consistency check of the suite: in a run against the model, every deviation of the
+    tester's seat is one a case commits on purpose, and every such case shows one. (A lone
+    NAK in idle - SUITE.IDLE.NAK-IGNORED, 3964R.D02 - is not among them: a station sends
+    exactly that when it starts up, so no recording can tell it from a restart.)"""
+    prof = load_profile(PROFILE)
+    cap = C.load(sim_run / "run.json")
+    an = A.analyze(cap, kit_for(PROC.tester_params(prof.params), prof.params), judge="a",
+                   restart_at_cases={"b"})
+    flagged = {case_of(cap, f.t) for f in fails(an, "a")}
+    assert flagged == set(DELIBERATE), (sorted(flagged - set(DELIBERATE)), sorted(set(DELIBERATE) - flagged))
+    # the run's pcap has no case marks: the same deviations, case by case
+    an_p = A.analyze(C.load(sim_run / "run.pcap"), kit_for(PROC.tester_params(prof.params), prof.params),
+                     judge="a")
+    assert {case_of(cap, f.t) for f in fails(an_p, "a")} == flagged
+    assert all(f.seat == "a" for f in an.findings)
+
+
+def test_analyze_exits_1_when_a_station_broke_a_rule_and_reports_it(sim_run, tmp_path, capsys):
+    rc = cli_main(["analyze", str(sim_run / "run.json"), "--profile", str(PROFILE), "--judge", "a",
+                   "--json", str(tmp_path / "a.json"), "--html", str(tmp_path / "a.html"), "-q"])
+    out = capsys.readouterr().out
+    assert rc == 1 and "overall FAIL" in out
+    res = R.RunResult.read_json(tmp_path / "a.json")
+    bad = [c for c in res.cases if c.verdict == R.FAIL]
+    assert bad and all(c.group == "seat a" and c.reference and c.divergence is not None for c in bad)
+    # a finding carries what a CP 341 in each seat raises; the IUT's seat sees the tester's errors
+    assert any("16#0808" in c.tester_status for c in bad)
+    html = (tmp_path / "a.html").read_text()
+    assert html.count('class="divergence"') >= len(bad) and "<svg" in html
+    assert cli_main(["report", str(tmp_path / "a.json"), "--html", str(tmp_path / "again.html")]) == 0
+
+
+# ------------------------------------------------------------------ broken variants
+
+#: where the manual states the rule each broken variant breaks (what its finding must cite)
+BROKEN_RULE = {
+    "bcc-without-end-sequence": "Sending data", "bcc-includes-stx": "Sending data",
+    "bcc-dle-counted-once": "Sending data", "no-dle-doubling": "Sending data",
+    "bcc-doubled-when-dle": "Send", "no-dle-undoubling": "'dual DLE'",
+    "bcc-not-checked": "Receive", "ack-at-etx-in-3964r": "Table 2-3", "dle-other-accepted": "Receive",
+    "no-length-limit": "Receive", "parity-error-ignored": "Receive", "parity-error-nak-at-once": "Receive",
+    "no-cdt-after-dle": "T_CDT", "repetition-refused": "Receive/setup",
+    "no-startup-nak": "Fig. 2-9", "idle-nak-without-quiet-wait": "Receive/setup",
+    "idle-stray-ignored": "Receive/setup", "nak-in-idle-answered": "Fig. 2-11",
+    "setup-attempts-plus-one": "Send/setup", "setup-attempts-minus-one": "Send/setup",
+    "tx-attempts-without-first": "transmission attempts", "no-final-setup-nak": "Send/setup",
+    "no-final-tx-nak": "transmission attempts", "nak-after-data-nak": "Send/release",
+    "no-quiet-before-nak": "Sending data", "adt-half": "T_ADT", "cdt-half": "T_CDT",
+    "high-priority-yields": "Initialization conflict", "low-priority-insists": "Initialization conflict",
+    "break-as-data": "Error handling", "nak-after-break": "Error handling", "retry-after-break": "Error handling",
+}
+
+
+#: the catalogue's id of the rule some variants break (what their first finding must name)
+BROKEN_RULE_ID = {
+    "bcc-includes-stx": "3964.TX.BCC", "bcc-dle-counted-once": "3964.TX.BCC",
+    "no-dle-doubling": "3964.TX.DLE-DOUBLING", "bcc-without-end-sequence": "3964.TX.BCC",
+}
+CATALOGUE_IDS = {r.id for r in PROC.rules().rules}
+
+
+def test_every_broken_variant_has_the_rule_it_breaks_named():
+    assert set(BROKEN_RULE) == set(MUTANTS)
+
+
+def _swap(cap: C.Capture) -> C.Capture:
+    other = {"a": "b", "b": "a"}
+    return C.Capture([replace(c, seat=other[c.seat]) for c in cap.chunks], {"a": cap.seats["b"], "b": cap.seats["a"]},
+                     cap.line, cap.start, cap.end, cap.notes, cap.marks)
+
+
+@pytest.mark.parametrize("name", sorted(MUTANTS))
+def test_a_capture_of_each_broken_variant_is_flagged_with_the_rule_it_breaks(name):
+    """The suite against the variant in virtual time; a capture of the cases it failed (the
+    exchanges where the defect shows), judged from the wire alone: the variant's seat is
+    flagged, in cases the runner failed too, citing the rule the variant breaks. With the
+    seats swapped, the same defect is found in seat a."""
+    m = MUTANTS[name]
+    prof = reference_profile(**m.profile)
+    res = run_suite(f"sim:?mutant={name}", prof)
+    failed = [c for c in res.cases if c.verdict == R.FAIL]
+    assert failed
+    res.cases = failed
+    cap = C.from_results(res)
+    pb, pa = prof.params, PROC.tester_params(prof.params)
+    an = A.analyze(cap, kit_for(pa, pb), judge="b", restart_at_cases={"b"})
+    bad = fails(an, "b")
+    assert bad, f"{name} is not flagged"
+    assert {case_of(cap, f.t) for f in bad} <= {c.id for c in failed}
+    first = bad[0]
+    assert BROKEN_RULE[name] in first.reference + " " + first.rule, first.message
+    # rule ids, where a finding names them, are the catalogue's (ptpcert rules)
+    assert {r for f in bad for r in f.rules} <= CATALOGUE_IDS
+    if name in BROKEN_RULE_ID:
+        assert BROKEN_RULE_ID[name] in first.rules, (first.rules, first.message)
+    # both seats are judged alike: the variant in seat a
+    swapped = A.analyze(_swap(cap), kit_for(pb, pa, {"a": "echo", "b": "none"}), judge="a",
+                        restart_at_cases={"a"})
+    assert [(f.t, f.kind, f.rule) for f in fails(swapped, "a")][:1] == [(first.t, first.kind, first.rule)]
+
+
+# ------------------------------------------------------------------ open points, resolution, gaps
+
+
+def _dle_other_block(nak_after: int) -> C.Capture:
+    """a sends a 3964R block with DLE followed by 'A' in its data (it breaks the DLE rule on
+    purpose); b answers with NAK after a's ``nak_after``-th byte of the block and a stops."""
+    c = PA.char_time
+    t = 1.0
+    chunks = [C.Chunk(0.001, "a", bytes([NAK])), C.Chunk(0.001, "b", bytes([NAK])),   # start-up
+              C.Chunk(t, "a", bytes([STX])), C.Chunk(round(t + c, 6), "b", bytes([DLE]))]
+    t += c
+    block = bytes([0x31, DLE, 0x41, 0x32, DLE, ETX])
+    block += bytes([codec.bcc(block[:-2]) if hasattr(codec, "bcc") else 0])
+    for x in block[:nak_after]:
+        t += c
+        chunks.append(C.Chunk(round(t, 6), "a", bytes([x])))
+    chunks.append(C.Chunk(round(t + c, 6), "b", bytes([NAK])))
+    return C.Capture(chunks, line=C.LineSettings(9600, 8, "even", 1))
+
+
+def test_a_station_with_the_other_reading_of_an_open_point_is_informational():
+    """A11: after DLE followed by another character the reference receiver NAKs at the end
+    of the block; one that NAKs at once takes the other defensible reading."""
+    kit = kit_for(PA, PB, {"a": "none", "b": "none"})
+    an = A.analyze(_dle_other_block(3), kit, judge="b")        # NAK right after the 'A'
+    got = [(f.grade, f.kind, f.readings) for f in an.findings]
+    assert got == [(R.INFORMATIONAL, "reading", ("A11",))], [f.message for f in an.findings]
+    an = A.analyze(_dle_other_block(7), kit_for(PA, PB, {"a": "none", "b": "none"}), judge="b")
+    assert not an.findings, [f.message for f in an.findings]   # the reference: NAK after the BCC
+
+
+def _timed_exchange(dle_delay: float) -> C.Capture:
+    """a sends STX; b answers DLE ``dle_delay`` after the STX is complete, a sends its
+    block (a's ADT is 20 ms: a DLE later than that is too late for a, which repeats)."""
+    c = PA.char_time
+    body = codec.body(b"X", "3964R")
+    t = 1.0     # the line quiet for longer than any timer before
+    chunks = [C.Chunk(round(t, 6), "a", bytes([STX]))]
+    td = t + c + dle_delay
+    chunks.append(C.Chunk(round(td, 6), "b", bytes([DLE])))
+    for i, x in enumerate(body):
+        chunks.append(C.Chunk(round(td + (i + 1) * c, 6), "a", bytes([x])))
+    chunks.append(C.Chunk(round(td + (len(body) + 1) * c, 6), "b", bytes([DLE])))
+    return C.Capture(chunks, line=C.LineSettings(9600, 8, "even", 1))
+
+
+def test_a_timing_difference_within_the_resolution_is_informational_and_beyond_it_fails():
+    kit = kit_for(PA, PB, {"a": "none", "b": "none"})
+    adt = PA.adt + PA.char_time       # how long a waits for the DLE (ADT plus the character itself)
+    # in time: clean
+    assert not A.analyze(_timed_exchange(adt - 0.004), kit, judge="a").findings
+    # 3 ms late for a's ADT: with exact timestamps a should have repeated its STX
+    late = _timed_exchange(adt + 0.003)
+    assert fails(A.analyze(late, kit_for(PA, PB, {"a": "none", "b": "none"}), judge="a"), "a")
+    # ... but with a timing resolution of 5 ms the DLE may have been in time: informational
+    an = A.analyze(late, kit_for(PA, PB, {"a": "none", "b": "none"}), judge="a", resolution=0.005)
+    assert not fails(an) and any(f.grade == R.INFORMATIONAL and f.kind == "resolution" for f in an.findings)
+
+
+def test_findings_near_lost_data_or_before_a_quiet_line_are_informational():
+    link = two_stations(echo=())
+    t = link.now + 0.05
+    link.request(link.a, b"ABC", at=t)
+    link.run_until_quiet(t + 10)
+    cap = link_capture(link)
+    # a recording that begins inside the exchange: the first byte is a's data, not its STX
+    cut = C.Capture([c for c in cap.chunks if c.t > t + 0.0025], line=cap.line)
+    an = A.analyze(cut, kit_for(PA, PB, {"a": "none", "b": "none"}))
+    assert an.findings and not fails(an)
+    # a byte of b lost by the recorder (an overrun): what it explains is not blamed on b
+    chunks = [c for c in cap.chunks if not (c.seat == "b" and c.t > t + 0.05)]
+    chunks.append(C.Chunk(round(t + 0.06, 6), "b", condition=C.Cond.LOST))
+    quiet = C.Chunk(0.0001, "a", bytes([NAK]))    # the line was quiet long before the exchange
+    an = A.analyze(C.Capture(chunks + [quiet], line=cap.line), kit_for(PA, PB, {"a": "none", "b": "none"}))
+    assert an.findings and not fails(an)
+    assert any("lost data" in n for f in an.findings for n in f.notes)
+
+
+def test_a_restart_is_a_note_and_a_missing_start_up_nak_after_a_power_on_mark_fails():
+    link = two_stations(echo=())
+    t = link.now + 0.05
+    link.request(link.a, b"1", at=t)
+    link.run_until_quiet(t + 10)
+    cap = link_capture(link)
+    # b restarts after a quiet line: its start-up NAK is no finding
+    restart = C.Chunk(round(link.now + 2.0, 6), "b", bytes([NAK]))
+    an = A.analyze(C.Capture(cap.chunks + [restart], line=cap.line), kit_for(PA, PB, {"a": "none", "b": "none"}))
+    assert not an.findings and any("restarted" in n for e in an.exchanges for n in e.notes)
+    # b switched on (a mark says so) and answering without its start-up NAK
+    no_nak = C.Capture([c for c in cap.chunks if not (c.seat == "b" and c.data == bytes([NAK]))], line=cap.line,
+                       marks=[C.Mark(0.0, "power-on b")])
+    an = A.analyze(no_nak, kit_for(PA, PB, {"a": "none", "b": "none"}), judge="b")
+    assert [f.kind for f in fails(an)] == ["start-up"] and "Fig. 2-9" in fails(an)[0].reference
+
+
+def test_live_analysis_chunk_by_chunk_agrees_with_the_whole_capture(sim_run):
+    prof = load_profile(PROFILE)
+    cap = C.load(sim_run / "run.json")
+    kit = kit_for(PROC.tester_params(prof.params), prof.params)
+    whole = A.analyze(cap, kit, restart_at_cases={"b"})
+    seen = []
+
+    class Listener:
+        def finding(self, f):
+            seen.append(f)
+
+        def exchange(self, line, e):
+            pass
+
+    line = A.LineAnalysis(kit_for(PROC.tester_params(prof.params), prof.params), restart_at_cases={"b"},
+                          listener=Listener())
+    marks = sorted(cap.marks, key=lambda m: m.t)
+    for ch in cap.chunks:
+        while marks and marks[0].t <= ch.t:
+            line.mark(marks.pop(0))
+        line.feed(ch)
+        line.advance(ch.t + 0.0005)
+    line.close(cap.end)
+    key = lambda f: (round(f.t, 4), f.seat, f.kind, f.grade)  # noqa: E731
+    assert [key(f) for f in line.findings()] == [key(f) for f in whole.findings]
+    assert sorted(map(key, seen)) == sorted(map(key, whole.findings))
+    assert [(e.first, e.last) for e in line.exchanges] == [(e.first, e.last) for e in whole.exchanges]
+
+
+# ------------------------------------------------------------------ the command line
+
+
+def test_analyze_usage_errors_exit_2(tmp_path, capsys):
+    (tmp_path / "bad.hexlog").write_text("# ptpcert-hexlog 1\n0.1 a ZZ\n")
+    assert cli_main(["analyze", str(tmp_path / "bad.hexlog"), "--profile", str(PROFILE)]) == 2
+    assert "bad.hexlog:2" in capsys.readouterr().err
+    assert cli_main(["analyze", str(tmp_path / "none.pcap"), "--profile", str(PROFILE)]) == 2
+    assert cli_main(["analyze", str(tmp_path / "bad.hexlog"), "--profile", str(tmp_path / "no.toml")]) == 2
+
+
+def test_analyze_reads_a_hex_log_of_a_single_case(sim_run, tmp_path, capsys):
+    case = "SUITE.RECEIVE.BCC-OFF-BY-ONE-BIT"
+    assert cli_main(["capture", "convert", str(sim_run / "run.json"), str(tmp_path / "c.hexlog"),
+                     "--case", case]) == 0
+    capsys.readouterr()
+    rc = cli_main(["analyze", str(sim_run / "run.json"), "--case", case, "--profile", str(PROFILE), "-v"])
+    out = capsys.readouterr().out
+    # one case of a run: the IUT is switched on at its start; the tester's wrong BCC is found
+    assert rc == 1 and "the BCC" in out and "seat a" in out
+    rc = cli_main(["analyze", str(tmp_path / "c.hexlog"), "--profile", str(PROFILE), "--judge", "b", "-q"])
+    assert rc == 0
+
+
+def _tshark(*args: str) -> str:
+    p = subprocess.run(["tshark", *args], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    return p.stdout
+
+
+@pytest.mark.skipif(shutil.which("tshark") is None,
+                    reason="tshark is not installed (Debian package 'tshark'; .ci/run installs it where apt can)")
+def test_tshark_reads_the_pcap_that_run_writes(sim_run):
+    """tshark -r reads the run's capture: every byte of both stations, in each direction."""
+    cap = C.load(sim_run / "run.pcap")
+    rows = [r.split("\t") for r in _tshark("-r", str(sim_run / "run.pcap"), "-T", "fields", "-E", "separator=/t",
+                                          "-e", "rtacser.eventtype", "-e", "data.data").splitlines()]
+    wire = {"a": b"", "b": b""}
+    for event, data in rows:
+        if event in ("0x01", "0x02") and data:
+            wire["a" if event == "0x01" else "b"] += bytes.fromhex(data)
+    assert wire["a"] == cap.wire_bytes("a") and wire["b"] == cap.wire_bytes("b")
+    assert len(wire["a"]) > 1000 and "DATA_RX_START" in _tshark("-r", str(sim_run / "run.pcap"), "-c", "5")
+
+
+# ------------------------------------------------------------------ RK 512 at the link level
+
+
+def test_an_rk512_run_exported_with_pcap_is_analysed_at_the_link_level_clean_for_the_reference(tmp_path, capsys):
+    """RK 512 frames travel in 3964R blocks: until RK 512 has an analyzer of its own, a capture
+    of RK 512 traffic is judged at the link level (blocks, acknowledgements, retries), and the
+    bundled reference's seat is clean."""
+    prof = ROOT / "conformance" / "profiles" / "rk512-reference.toml"
+    rc = cli_main(["run", "--iut", "sim:", "--profile", str(prof), "--select", "SUITE.RK512.L-0*",
+                   "--pcap", str(tmp_path / "rk.pcap"), "-q"])
+    assert rc == 0
+    cap = C.load(tmp_path / "rk.pcap")
+    assert cap.wire_bytes("b").count(STX) >= 5
+    rc = cli_main(["analyze", str(tmp_path / "rk.pcap"), "--profile", str(prof), "--judge", "b",
+                   "--json", str(tmp_path / "b.json"), "-q"])
+    assert rc == 0, capsys.readouterr().out
+    res = R.RunResult.read_json(tmp_path / "b.json")
+    assert len(res.cases) >= 5 and {c.verdict for c in res.cases} == {R.PASS}
