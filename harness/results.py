@@ -36,6 +36,54 @@ SCHEMA_V1 = "ptpcert-results/1"
 SCHEMAS = (SCHEMA, SCHEMA_V1)
 
 
+#: The fields of a frame in :attr:`CaseResult.frames` (what
+#: :meth:`ptpcert.procedure.Procedure.describe_frames` returns; the reports draw them).
+#: Times are seconds on the case's clock, as in the transcript.
+FRAME_FIELDS = {
+    "dir": 'who sent the frame: "tester" or "iut"',
+    "t0": "where the frame begins (its first character, or the answer that opened it)",
+    "t1": "where it ends (its last character)",
+    "label": 'the frame decoded, for people: "SEND DB10 DW0 200 bytes, accepted (DLE)"',
+    "frame": "optional: the frame's content in hex (without the link's framing)",
+    "marks": 'optional: named instants inside it, a list of {"t": seconds, "name": str} '
+             '(e.g. an end character "ETX")',
+    "windows": 'optional: named spans that belong to it, a list of {"t0", "t1", "name"} '
+               '(e.g. the "CDT" after its last character)',
+    "diverged": "optional: true when the case's first divergence falls in this frame",
+    "expected": "optional: the label of the frame the case expected in its place",
+}
+
+
+def divergence_frame(c: "CaseResult") -> dict[str, Any] | None:
+    """The frame the case's first divergence falls in, or None: the one the run marked
+    ``diverged``; for results without the mark, the IUT's frame (else the tester's) whose
+    span holds the divergence's time."""
+    if c.divergence is None:
+        return None
+    for f in c.frames:
+        if f.get("diverged"):
+            return f
+    t = float(c.divergence.time)
+    hits = [f for f in c.frames if _is(f.get("t0"), (int, float)) and _is(f.get("t1"), (int, float))
+            and float(f["t0"]) - 1e-6 <= t <= float(f["t1"]) + 1e-6]
+    hits.sort(key=lambda f: f.get("dir") != "iut")
+    return hits[0] if hits else None
+
+
+def divergence_frame_text(c: "CaseResult") -> str:
+    """The divergence's frame in words: 'in the IUT's frame "response REATEL 0Ch -> ...",
+    expected "response REATEL 14h -> ..."'; '' when it falls in no frame."""
+    f = divergence_frame(c)
+    if f is None:
+        return ""
+    who = "the IUT's" if f.get("dir") == "iut" else "the tester's"
+    text = f"in {who} frame \"{f.get('label', '?')}\""
+    exp = f.get("expected")
+    if exp and exp != f.get("label"):
+        text += f", expected \"{exp}\""
+    return text
+
+
 def worse_grade(a: str, b: str) -> str:
     return a if GRADE_ORDER.index(a) >= GRADE_ORDER.index(b) else b
 
@@ -68,7 +116,8 @@ class CaseResult:
     observed_status: list[str] = field(default_factory=list)  # reported by the IUT
     status_checked: bool = False
     transcript: list[dict[str, Any]] = field(default_factory=list)
-    #: frames the procedure found in the transcript (dir, t0, t1, label), for reports
+    #: frames the procedure found in the transcript, for reports: dicts with the fields of
+    #: :data:`FRAME_FIELDS` (``dir``, ``t0``, ``t1``, ``label`` always; the rest optional)
     frames: list[dict[str, Any]] = field(default_factory=list)
     steps: list[dict[str, Any]] = field(default_factory=list)  # expanded steps, for reports
     origin: float = 0.0                # the transport clock at the case's time 0 (monotonic)
