@@ -64,10 +64,12 @@ def frame_lines(c: R.CaseResult, tail: int | None = None) -> list[str]:
         who = "tester" if f.get("dir") == "tester" else "IUT   "
         mark = ">>" if f.get("diverged") else "  "
         line = f"{mark}{t0:10.3f}-{t1:.3f} ms  {who} frame {f.get('label', '')}"
-        extra = [f"{m.get('name', '?')} at {float(m.get('t', 0)) * 1000:.3f} ms" for m in f.get("marks") or []
-                 if isinstance(m, dict)]
-        extra += [f"{w.get('name', '?')} {float(w.get('t0', 0)) * 1000:.3f}-{float(w.get('t1', 0)) * 1000:.3f} ms"
-                  for w in f.get("windows") or [] if isinstance(w, dict)]
+        num = (int, float)
+        extra = [f"{m.get('name', '?')} at {m['t'] * 1000:.3f} ms" for m in f.get("marks") or []
+                 if isinstance(m, dict) and isinstance(m.get("t"), num)]
+        extra += [f"{w.get('name', '?')} {w['t0'] * 1000:.3f}-{w['t1'] * 1000:.3f} ms"
+                  for w in f.get("windows") or []
+                  if isinstance(w, dict) and isinstance(w.get("t0"), num) and isinstance(w.get("t1"), num)]
         if extra:
             line += "  [" + "; ".join(extra) + "]"
         if f.get("diverged") and f.get("expected") and f.get("expected") != f.get("label"):

@@ -409,6 +409,8 @@ def _check_run(d: Any) -> None:
                     raise ResultsError(f"{where}.{name}[{j}]: must be an object")
         for j, e in enumerate(c.get("transcript", [])):
             _check_entry(e, f"{where}.transcript[{j}]")
+        for j, e in enumerate(c.get("frames", [])):
+            _check_frame(e, f"{where}.frames[{j}]")
         for name in ("observed_status", "readings", "notes"):
             if any(not isinstance(x, str) for x in c.get(name, [])):
                 raise ResultsError(f"{where}.{name}: must be a list of strings")
@@ -425,6 +427,23 @@ def _check_divergence(div: Any, where: str) -> None:
     w = div.get("window")
     if w is not None and not (isinstance(w, list) and len(w) == 2 and all(_is(x, (int, float)) for x in w)):
         raise ResultsError(f"{where}.divergence.window: must be null or [from, to] in seconds")
+
+
+def _check_frame(f: dict[str, Any], where: str) -> None:
+    """A frame's fields (:data:`FRAME_FIELDS`) have their types."""
+    for key in ("t0", "t1"):
+        if not _is(f.get(key), (int, float)):
+            raise ResultsError(f"{where}.{key}: must be a number (seconds)")
+    if f.get("dir") not in ("tester", "iut"):
+        raise ResultsError(f"{where}.dir: {f.get('dir')!r} (allowed: tester, iut)")
+    for key, times in (("marks", ("t",)), ("windows", ("t0", "t1"))):
+        items = f.get(key, [])
+        if not isinstance(items, list):
+            raise ResultsError(f"{where}.{key}: must be a list of objects")
+        for k, m in enumerate(items):
+            if not isinstance(m, dict) or not all(_is(m.get(t), (int, float)) for t in times):
+                raise ResultsError(f"{where}.{key}[{k}]: must be an object with "
+                                   + ", ".join(f"\"{t}\"" for t in times) + " (seconds) and \"name\"")
 
 
 def _check_entry(e: dict[str, Any], where: str) -> None:

@@ -540,7 +540,7 @@ def decode_blocks(transcript: list[dict[str, Any]], bcc: bool) -> list[dict[str,
         if isinstance(blk, dict) and blk["raw"]:
             label = describe_frame(bytes(blk["data"]))
             out.append({"dir": d, "t0": blk["t0"], "t1": blk["t1"],
-                        "label": f"{label}, incomplete: {len(blk['raw'])} bytes when the transcript ends",
+                        "label": f"{label}, unfinished after {len(blk['raw'])} byte{'s' if len(blk['raw']) != 1 else ''}",
                         "frame": bytes(blk["data"]).hex(" ").upper()})
     out.sort(key=lambda f: f["t0"])
     return out
