@@ -59,6 +59,7 @@ MAX_H = 1500         # the most a diagram may take
 DIV_WRAP = 62        # characters per line of the divergence text
 FRAME_H = 15         # room for a frame's label above the label of its first arrow
 FRAME_CHARS = 64     # a frame label longer than this is shortened (the tooltip has it whole)
+MAX_FRAME_H = 300    # the most a diagram may grow beyond MAX_H for its frames' labels
 
 _CODE_RE = re.compile(r"16#[0-9A-Fa-f]{4}")
 _HEXRUN_RE = re.compile(r"(?:\b[0-9A-F]{2}\b ){16,}\b[0-9A-F]{2}\b")
@@ -436,7 +437,9 @@ def sequence_svg(c: R.CaseResult, events: list | None = None) -> str:
         label_h = {id(e): FRAME_H for e in frame_at.values()}
         lay = _layout(events, extra, end, div_t, div_h, elided, label_h)
         bottom = (lay.ys[-1] if lay.ys else TOP) + 30
-        if bottom <= MAX_H or max_events <= 12:
+        # the frames' labels take room of their own: up to MAX_FRAME_H more before arrows
+        # are left out
+        if bottom <= MAX_H + min(MAX_FRAME_H, FRAME_H * len(label_h)) or max_events <= 12:
             break
         max_events = max(12, int(max_events * 0.7))
 
