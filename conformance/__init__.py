@@ -7,7 +7,7 @@ from __future__ import annotations
 from ptpcert.profile import Profile
 from ptpcert.scenario import Vector
 
-from . import p3964, rk512
+from . import ascii, p3964, rk512
 
 
 def cases(profile: Profile) -> list[Vector]:
@@ -15,6 +15,8 @@ def cases(profile: Profile) -> list[Vector]:
     pid = profile.procedure.id
     if pid == "3964r":
         return p3964.cases(profile.params)
+    if pid == "ascii":
+        return ascii.cases(profile.params)
     if pid == "rk512":
         return rk512.cases(profile)
     raise ValueError(f"no conformance suite for procedure {profile.procedure.title}")

@@ -64,10 +64,25 @@ def drive_station(host, ep: Endpoint, *, stop: Callable[[], bool] | None = None,
             if r > now:  # a recheck time already past would only spin
                 wake = min(wake, r)
         for t, kind, value in ep.poll(wake):
-            st.line_event(max(t, st.now), kind, value)
+            t = max(t, st.now)
+            # input read in a batch is taken as it came: the deadlines before each input
+            # first, and the application runs in between (it must not find a buffer full
+            # that it would have emptied, or a frame not yet ended that had ended)
+            while True:
+                d = st.next_deadline()
+                if d is None or d >= t:
+                    break
+                st.handle_timer(max(d, st.now))
+                _drain(host, on_event)
+            st.line_event(t, kind, value)
+            _drain(host, on_event)
         now = ep.now()
         d = st.next_deadline()
         if d is not None and d <= now:
             st.handle_timer(now)
 
 
+def _drain(host, on_event) -> None:
+    for e in host.drain():
+        if on_event is not None:
+            on_event(e)

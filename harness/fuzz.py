@@ -728,6 +728,9 @@ def _divergent_rule(v: Vector, res: R.CaseResult) -> tuple[str, str]:
         note = steps[res.divergence.step].note
         if note:
             return rule_of_note(note)
+    if res.divergence is not None and v.expected.echo_after and any(
+            w in (res.divergence.expected or "") for w in ("echo", "block(s)")):
+        return "the frames (blocks) sent back are those of a conforming IUT", ""
     if res.divergence is None and res.message.startswith("reported: "):
         return "the IUT's results of its requests follow from the exchange: " + res.message[10:], ""
     if res.divergence is None and res.message.startswith("STATUS: "):

@@ -214,6 +214,12 @@ class Procedure:
             words = words.replace("{" + k + "}", str(v))
         return f"{template} {words}"
 
+    def interleaved(self, params: Any) -> bytes:
+        """Bytes an IUT may put on the line between any others at times the manual leaves
+        open (ASCII: the XON of its flow control). An expect step passes over them where it
+        does not expect them."""
+        return b""
+
     def start_ahead(self, vector: Any) -> bool:
         """Whether the IUT process of ``vector``'s case may be started while the previous
         case runs. Not where the IUT acts on its own from its start (RK 512's request

@@ -128,6 +128,10 @@ class CaseRun:
         self.sent_end = self.t0
         self.mark_time = self.t0
         self.partner_delivered: list[bytes] = []
+        #: bytes an expect step passes over where it does not expect them
+        self.skippable = frozenset(proc.interleaved(params))
+        #: (data, bytes received) of the last partial expect step, for a step that resumes it
+        self.last_partial: tuple[bytes, int] | None = None
         self.skipping = 0
 
     # -- helpers -----------------------------------------------------------------------
@@ -191,6 +195,16 @@ class CaseRun:
                 return None
             self._pump(deadline)
         return self.rx[self.pos]
+
+    def next_wanted(self, deadline: float, wanted: set[int]) -> tuple[float, int] | None:
+        """The next received byte, passing over the procedure's interleaved bytes (e.g. an
+        XON) that arrive in time and are not among those ``wanted`` here."""
+        while True:
+            item = self.next_byte(deadline)
+            if item is None or item[0] > deadline or item[1] not in self.skippable or item[1] in wanted:
+                return item
+            self.consume()
+            self.log[self.rx_log[self.pos - 1]]["skipped"] = True
 
     def fail(self, expected: str, observed: str, t: float, window=None, late_only=False):
         div = R.Divergence(self.step_index, self.rel(t), expected, observed,
@@ -275,6 +289,12 @@ class CaseRun:
         self.forced += d
 
     def _expect(self, step: Step) -> None:
+        last_partial, self.last_partial = self.last_partial, None
+        if step.resume and last_partial is not None and last_partial[0] == step.data:
+            rest = step.data[last_partial[1]:]
+            if not rest:
+                return  # the interrupted step received everything already
+            step = replace(step, data=rest, alternatives=())
         if step.since == "sent":
             self.ref = self.sent_end
         elif step.since == "mark":
@@ -287,11 +307,16 @@ class CaseRun:
             what += " (or " + " or ".join(brief_hex(a) for a in step.alternatives) + ")"
         label = f"expect {what} in [{step.after}, {step.within}]"
         self.mark("window", t0=self.rel(self.ref + lo_nom), t1=self.rel(self.ref + hi_nom), label=label)
-        first = self.next_byte(hi)
+        cands = [step.data] + list(step.alternatives)
+        first = self.next_wanted(hi, {c[0] for c in cands})
         if first is None or first[0] > hi:
+            if step.partial:
+                self.last_partial = (step.data, 0)
             if step.optional or step.partial:
                 if step.optional:
                     self._grade(step.absent_grade, f"step {self.step_index + 1}: optional {what} not sent")
+                    # the next step follows the window watched in vain (its tolerance included)
+                    self.ref = max(self.ref + hi_nom, min(self.tr.now(), hi))
                     self.skipping = step.skip
                 self.forced += max(hi_nom, 0.0)  # the whole window had to be watched
                 return
@@ -302,10 +327,10 @@ class CaseRun:
                       f"{b:02X} came {1000 * (t - self.ref):.1f} ms after the reference, too late",
                       t, (self.ref + lo_nom, self.ref + hi_nom), late_only=(b == step.data[0]))
         t, b = first
-        cands = [step.data] + list(step.alternatives)
         live = [c for c in cands if c[0] == b]
         if not live:
             if step.partial:
+                self.last_partial = (step.data, 0)
                 return
             if step.optional:
                 self._grade(step.absent_grade, f"step {self.step_index + 1}: optional {what} not sent")
@@ -326,7 +351,7 @@ class CaseRun:
             longer = [c for c in live if len(c) > len(got)]
             if not longer:
                 break
-            nxt = self.next_byte(last_t + gap_lim)
+            nxt = self.next_wanted(last_t + gap_lim, {c[len(got)] for c in longer})
             if nxt is None or nxt[0] > last_t + gap_lim:
                 if done or step.partial:
                     break
@@ -348,6 +373,8 @@ class CaseRun:
             self.consume()
             last_t = nt
         matched = bytes(got)
+        if step.partial:
+            self.last_partial = (step.data, len(matched))
         if matched != step.data and not step.partial:
             if matched in step.alternatives:
                 self._grade(step.alt_grade, f"step {self.step_index + 1}: the IUT sent {codec.hexstr(matched)}")
@@ -386,6 +413,8 @@ class CaseRun:
                     state.startup_nak_seen = True
                 elif first is None and state.startup_nak_seen is None:
                     state.startup_nak_seen = False
+            else:
+                self._await_ready()
             self.ref = max(self.tr.now(), self.rx[self.pos - 1][0] if self.pos else self.tr.now())
         else:
             quiet = self.longest + self.tol.late(0)
@@ -404,6 +433,22 @@ class CaseRun:
             self.ref = self.tr.now()
         self.t_steps = self.ref
         self.mark("start", t=self.rel(self.ref))
+
+    def _await_ready(self) -> None:
+        """An IUT that announces nothing at start-up: before the first stimulus, wait until
+        it waits for input (a stimulus written earlier would sit in a pipe and lose its
+        timing), at most the start-up timeout."""
+        if self.tr.virtual:
+            return
+        end = self.tr.now() + self.opts.startup_timeout
+        while True:
+            ready = self.tr.ready()
+            if ready is None or ready:
+                return
+            if self.tr.now() >= end:
+                self.notes.append(f"the IUT did not wait for input within {self.opts.startup_timeout:g} s of its start")
+                return
+            self._pump(min(end, self.tr.now() + 0.01))
 
     def epilogue(self) -> None:
         """After the steps: an echo IUT sends back the blocks the vector names; the tester
@@ -430,7 +475,10 @@ class CaseRun:
                                  label="echo: the tester receives as a conforming partner")
         for i, (want, have) in enumerate(zip(echo, got)):
             if want != have:
-                self.fail(f"echo {i + 1}: {codec.hexstr(want)}", f"the IUT sent back {codec.hexstr(have)}", self.ref)
+                self.fail(f"echo {i + 1}: {brief_hex(want)}", f"the IUT sent back {brief_hex(have)}", self.ref)
+        if len(got) > len(echo):
+            self.fail(f"{len(echo)} block(s) back from the IUT",
+                      f"it also sent back {', '.join(brief_hex(x) for x in got[len(echo):])}", self.ref)
         self.forced += sum(len(self.proc.frame(e, self.p)) + 2 for e in echo) * self.char
 
     def _partner(self, step: Step) -> None:
@@ -451,7 +499,10 @@ class CaseRun:
         partner.power_on(start)
         partner.pop_output()          # it is already running: nothing of its start-up here
         ep = _CaseEndpoint(self)
-        quiet = max(proc.edge_timers(params)) + 4 * proc.char_time(params)
+        # quiet for the longest timer, with the lateness a real-time IUT is allowed
+        # (the IUT's timers and the partner's: they may differ, e.g. an ASCII partner's CDT)
+        quiet = (max(proc.edge_timers(params) + proc.edge_timers(self.p)) + 4 * proc.char_time(params)
+                 + self.tol.late(0))
         got: list[bytes] = []
 
         def on_event(e) -> None:
@@ -532,7 +583,10 @@ class Runner:
             return v.params
         p = self.profile.params
         fixed = {name: getattr(v.params, name) for name in v.binds}
-        return p.with_(**fixed) if fixed else p
+        try:
+            return p.with_(**fixed) if fixed else p
+        except ValueError:
+            return v.params  # no such IUT: the bound values do not go with the profile's (unsupported)
 
     def unsupported_reason(self, v: Vector, caps: frozenset[str]) -> str | None:
         if self.profile is not None:
@@ -713,6 +767,12 @@ class Runner:
             if problems and res.verdict != R.FAIL:
                 res.verdict = R.FAIL
                 res.message = "STATUS: " + "; ".join(problems) + (f" (reported: {', '.join(res.observed_status) or 'none'})")
+            soft = v.expected.iut_status.soft_missing(codes)
+            if soft and res.verdict in R.GRADE_ORDER:
+                res.verdict = R.worse_grade(res.verdict, R.INFORMATIONAL)
+                res.message = "; ".join(x for x in (res.message, "STATUS: the IUT took another reading of an open "
+                                                    "point: " + ", ".join(soft) + " not reported (reported: "
+                                                    + (", ".join(res.observed_status) or "none") + ")") if x)
             # what the procedure's IUT reports beyond STATUS (e.g. RK 512 request results)
             lines = [text for _, text in tr.report_lines()]
             more = v.proc.judge_reports(v, lines)

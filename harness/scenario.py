@@ -135,7 +135,7 @@ _STEP_KEYS = {
     "receive": {"after", "within", "optional", "absent_grade", "or", "or_grade", "since", "note"},
     "partner": {"note"},
     "expect": {"after", "within", "max_gap", "partial", "optional", "absent_grade", "or",
-               "or_grade", "since", "note", "mark", "skip"},
+               "or_grade", "since", "note", "mark", "resume", "skip"},
 }
 
 
@@ -152,7 +152,9 @@ class Step:
       after the reference point and each further byte within ``max_gap`` of the previous
       one. ``partial``: the IUT may stop anywhere in ``data`` (it was interrupted);
       ``optional``: it may send nothing (graded ``absent_grade``); ``alternatives``: other
-      byte strings accepted in the same window (graded ``alt_grade``).
+      byte strings accepted in the same window (graded ``alt_grade``). ``resume``: the
+      bytes continue those of the last ``partial`` step with the same data: only what it
+      did not receive is expected (an IUT that was stopped and goes on).
     * ``silence``: the IUT sends nothing for ``duration``.
     * ``prime``: the tester delivers the payload ``data`` as a conforming sender would
       (STX, DLE, block, DLE), its STX ``at`` after the reference point; expanded into
@@ -187,6 +189,7 @@ class Step:
     alt_grade: str = "pass"
     since: str = "previous"
     mark: bool = False
+    resume: bool = False
     note: str = ""
     #: an optional expect that sees nothing skips this many of the following steps (the
     #: rest of a macro step it begins, e.g. the tester's replies to a block not sent)
@@ -222,6 +225,8 @@ class Step:
                 d["or"] = [vector_hex(a) for a in self.alternatives]
                 if self.alt_grade != "pass":
                     d["or_grade"] = self.alt_grade
+            if self.resume:
+                d["resume"] = True
         if self.mark:
             d["mark"] = True
         if self.note:
@@ -239,17 +244,25 @@ BASE_REQUIREMENTS = ("line_conditions", "restart")
 @dataclass(frozen=True)
 class StatusSpec:
     """Expected STATUS events: each entry of ``required`` is a set of alternatives of which
-    at least one must be raised; anything raised must be in ``allowed``."""
+    at least one must be raised; anything raised must be in ``allowed``. Each entry of
+    ``soft`` is what a conforming IUT raises under the reading the model takes of an open
+    point of the manual: missing, it grades the case informational, never failed."""
 
     required: tuple[frozenset[int], ...] = ()
     optional: frozenset[int] = frozenset()
+    soft: tuple[frozenset[int], ...] = ()
 
     @property
     def allowed(self) -> frozenset[int]:
         out = set(self.optional)
-        for group in self.required:
+        for group in self.required + self.soft:
             out |= group
         return frozenset(out)
+
+    def soft_missing(self, observed: Iterable[int]) -> list[str]:
+        """The ``soft`` entries none of whose codes was raised."""
+        seen = set(observed)
+        return [" or ".join(f"16#{c:04X}" for c in sorted(g)) for g in self.soft if not g & seen]
 
     def judge(self, observed: Iterable[int]) -> list[str]:
         """Problems with ``observed`` (empty: acceptable)."""
@@ -269,6 +282,9 @@ class StatusSpec:
     def describe(self) -> str:
         req = self.to_toml()
         s = ", ".join(req) if req else "none"
+        if self.soft:
+            s += " (by the model's reading of an open point also " + ", ".join(
+                "|".join(f"16#{c:04X}" for c in sorted(g)) for g in self.soft) + ")"
         if self.optional:
             s += " (may also raise " + ", ".join(f"16#{c:04X}" for c in sorted(self.optional)) + ")"
         return s
@@ -370,6 +386,8 @@ class Vector:
         exp: dict[str, Any] = {"iut_status": e.iut_status.to_toml()}
         if e.iut_status.optional:
             exp["iut_status_optional"] = [f"16#{c:04X}" for c in sorted(e.iut_status.optional)]
+        if e.iut_status.soft:
+            exp["iut_status_soft"] = ["|".join(f"16#{c:04X}" for c in sorted(g)) for g in e.iut_status.soft]
         exp["tester_status"] = e.tester_status.to_toml()
         if e.tester_status.optional:
             exp["tester_status_optional"] = [f"16#{c:04X}" for c in sorted(e.tester_status.optional)]
@@ -394,8 +412,8 @@ _ID = re.compile(r"^[A-Z0-9][A-Z0-9.\-_]*$")
 _TOP_KEYS = {"id", "title", "reference", "rule", "rules", "group", "iut_role", "start", "requires",
              "readings", "provenance", "notes", "binds", "params", "tester_params", "expected", "steps",
              "timing_sensitive", "procedure", "setup", "extra"}
-_EXPECTED_KEYS = {"iut_status", "iut_status_optional", "tester_status", "tester_status_optional",
-                  "delivered", "sent", "echo_after"}
+_EXPECTED_KEYS = {"iut_status", "iut_status_optional", "iut_status_soft", "tester_status",
+                  "tester_status_optional", "delivered", "sent", "echo_after"}
 
 
 def load_vector(path: str | Path) -> Vector:
@@ -458,7 +476,7 @@ def vector_from_dict(raw: dict[str, Any], source: str = "<vector>") -> Vector:
     params = _params(proc, raw["params"], "params", err)
     tester_params = _params(proc, raw["tester_params"], "tester_params", err) if "tester_params" in raw else None
     names = proc.param_names()
-    binds = raw.get("binds", ["procedure"])
+    binds = raw.get("binds", ["procedure"] if "procedure" in names else [])
     if not isinstance(binds, list) or any(b not in names for b in binds):
         raise err("binds", f"{binds!r}: a list of parameter names ({', '.join(sorted(names))})")
     if not isinstance(raw["steps"], list) or not raw["steps"]:
@@ -661,7 +679,7 @@ def _step(raw: Any, fld: str, err, proc=None) -> Step:
             if not isinstance(raw["skip"], int) or isinstance(raw["skip"], bool) or raw["skip"] < 0:
                 raise err(f"{fld}.skip", "the number of following steps skipped when the optional bytes do not come")
             kw["skip"] = raw["skip"]
-        for key in ("partial", "optional"):
+        for key in ("partial", "optional", "resume"):
             if key in raw:
                 if not isinstance(raw[key], bool):
                     raise err(f"{fld}.{key}", "must be true or false")
@@ -707,7 +725,8 @@ def _expected(raw: Any, err) -> Expected:
     def spec(name: str) -> StatusSpec:
         req = _status_list(raw.get(name, []), f"expected.{name}", err)
         opt = _status_list(raw.get(name + "_optional", []), f"expected.{name}_optional", err)
-        return StatusSpec(tuple(req), frozenset().union(*opt) if opt else frozenset())
+        soft = _status_list(raw.get(name + "_soft", []), f"expected.{name}_soft", err) if name == "iut_status" else []
+        return StatusSpec(tuple(req), frozenset().union(*opt) if opt else frozenset(), tuple(soft))
 
     def blocks(name: str) -> tuple[bytes, ...]:
         v = raw.get(name, [])

@@ -4,10 +4,11 @@ Adding one adds a module here and a line to :data:`PROCEDURES`; no runner code c
 from __future__ import annotations
 
 from ..procedure import Procedure, ProcedureError
+from .ascii import PAscii
 from .p3964 import P3964
 from .rk512 import Rk512
 
-PROCEDURES: tuple[Procedure, ...] = (P3964(), Rk512())
+PROCEDURES: tuple[Procedure, ...] = (P3964(), Rk512(), PAscii())
 
 
 def by_name(name: str) -> Procedure:

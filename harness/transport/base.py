@@ -73,6 +73,13 @@ class Transport:
         bytes received so far as (time, byte) pairs (possibly empty)."""
         raise NotImplementedError
 
+    def ready(self) -> bool | None:
+        """Whether a freshly started IUT waits for input yet (True), is still starting up
+        (False), or the transport cannot tell (None). For procedures whose IUT announces
+        nothing on the line at start-up, so that no stimulus waits in a pipe for a process
+        that is not reading yet (its timing would be lost)."""
+        return True
+
     def status_reports(self) -> list[tuple[float, int]]:
         """STATUS events the IUT reported since the last call (time, code)."""
         return []

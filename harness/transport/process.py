@@ -202,6 +202,28 @@ class ProcessTransport(Transport):
                           "output) but its process keeps running")
         raise IUTDied(rc, self.parser.tail())
 
+    #: kernel wait channels of a task that waits for input (select/poll, a blocking read)
+    _WAITS = ("poll", "select", "pipe_read", "wait_woken", "n_tty_read", "tty_read")
+
+    def ready(self) -> bool | None:
+        """Linux: the IUT is ready once one of its threads sleeps waiting for input (its
+        /proc wait channel); elsewhere, or when /proc cannot be read, None."""
+        if self.proc is None or self.proc.poll() is not None:
+            return None
+        base = f"/proc/{self.proc.pid}/task"
+        try:
+            tasks = os.listdir(base)
+            for tid in tasks:
+                with open(f"{base}/{tid}/stat", "rb") as f:
+                    state = f.read().rsplit(b")", 1)[1].split()[0]
+                with open(f"{base}/{tid}/wchan", "rb") as f:
+                    wchan = f.read().decode("ascii", "replace")
+                if state == b"S" and any(w in wchan for w in self._WAITS):
+                    return True
+        except (OSError, IndexError):
+            return None
+        return False
+
     def status_reports(self) -> list[tuple[float, int]]:
         if self.proc is not None and not self._closed:
             self._drain_stderr()
