@@ -641,8 +641,13 @@ def _frames_svg(frames: list[dict[str, Any]], frame_at: dict[int, Any], y, end: 
     for i, e in frame_at.items():
         labels.setdefault(id(e), []).append(i)
     mid = (TX + IX) // 2
+    named = {"tester": -1e9, "iut": -1e9}   # where the last name of a mark or window went, per side
     for i, f in enumerate(frames):
         t0, t1 = f["t0"], min(f["t1"], end)
+        # a frame's windows are drawn up to where its sender's next frame begins (the CDT
+        # runs from each character: the next one stops it); their times are in the tooltip
+        nxt = min((g["t0"] for g in frames[i + 1:] if g["dir"] == f["dir"] and g["t0"] >= f["t1"] - 1e-9),
+                  default=math.inf)
         if any(a < t1 and t0 < b for a, b, _ in elided):   # partly left out: not drawn
             continue
         tester = f["dir"] == "tester"
@@ -670,22 +675,31 @@ def _frames_svg(frames: list[dict[str, Any]], frame_at: dict[int, Any], y, end: 
                 continue
             ym = y(tm)
             lx0, lx1 = (TX - 14, TX + 4) if tester else (IX - 4, IX + 14)
-            body.append(f'<g class="mark" data-t="{tm:.6f}"><path d="M{lx0} {ym:.1f}H{lx1}"/>'
-                        f'<text x="{nx}" y="{ym + 3:.1f}" text-anchor="{anchor_}">{esc(name)}</text></g>')
+            text = ""
+            if ym + 3 - named[f["dir"]] >= 10:   # names that would overlap: the tooltip has them
+                named[f["dir"]] = ym + 3
+                text = f'<text x="{nx}" y="{ym + 3:.1f}" text-anchor="{anchor_}">{esc(name)}</text>'
+            body.append(f'<g class="mark" data-t="{tm:.6f}" data-name="{esc(name)}"><path d="M{lx0} {ym:.1f}H{lx1}"/>'
+                        f'{text}</g>')
             tip.append(f"{name} at {ms(tm)} ms")
         for w in f.get("windows") or []:
             try:
                 w0, w1, name = float(w["t0"]), float(w["t1"]), str(w.get("name", ""))
             except (KeyError, TypeError, ValueError):
                 continue
-            if w0 > end + 1e-9:
-                continue
-            wy0 = y(w0)
-            wy1 = max(y(min(w1, end)), wy0 + 3)
-            body.append(f'<g class="fwindow" data-t0="{w0:.6f}" data-t1="{w1:.6f}">'
-                        f'<rect x="{bx - 1}" y="{wy0:.1f}" width="9" height="{wy1 - wy0:.1f}"/>'
-                        f'<text x="{nx}" y="{wy0 + 10:.1f}" text-anchor="{anchor_}">{esc(name)}</text></g>')
             tip.append(f"{name} {ms(w0)}–{ms(w1)} ms")
+            shown_to = min(w1, end, max(nxt, w0))
+            if w0 > end + 1e-9 or y(shown_to) - y(w0) < 3:
+                continue
+            wy0, wy1 = y(w0), y(shown_to)
+            text = ""
+            ty = max(wy0 + 10, named[f["dir"]] + 10)   # below a name already there, if it fits
+            if ty <= wy1 + 2:
+                named[f["dir"]] = ty
+                text = f'<text x="{nx}" y="{ty:.1f}" text-anchor="{anchor_}">{esc(name)}</text>'
+            body.append(f'<g class="fwindow" data-t0="{w0:.6f}" data-t1="{w1:.6f}" data-name="{esc(name)}"'
+                        + (' data-cut="1"' if shown_to < min(w1, end) else "") + '>'
+                        f'<rect x="{bx - 1}" y="{wy0:.1f}" width="9" height="{wy1 - wy0:.1f}"/>{text}</g>')
         attrs = (f'data-dir="{f["dir"]}" data-t0="{f["t0"]:.6f}" data-t1="{f["t1"]:.6f}"'
                  + (' data-diverged="1"' if f["diverged"] else ""))
         e = frame_at.get(i)
@@ -794,7 +808,8 @@ svg.seq .frame .band{fill:#2e7d32;fill-opacity:.22}svg.seq .frame[data-dir=iut] 
 svg.seq .frame .bracket{stroke:#2e7d32;stroke-width:1.4;fill:none}svg.seq .frame[data-dir=iut] .bracket{stroke:#0d47a1}
 svg.seq .frame .pill{fill:#e8f5e9;stroke:#a5d6a7}svg.seq .frame[data-dir=iut] .pill{fill:#e3f2fd;stroke:#90caf9}
 svg.seq .flabel{text-anchor:middle;font-weight:600;fill:#1b5e20}svg.seq .frame[data-dir=iut] .flabel{fill:#0d47a1}
-svg.seq .frame .mark path{stroke:#6a1b9a;stroke-width:1.6}svg.seq .frame .mark text,svg.seq .frame .fwindow text{font-size:9px;fill:#6a1b9a}
+svg.seq .frame .mark path{stroke:#6a1b9a;stroke-width:1.6}
+svg.seq .frame .mark text,svg.seq .frame .fwindow text{font-size:9px;fill:#6a1b9a;paint-order:stroke;stroke:#fff;stroke-width:3px}
 svg.seq .frame .fwindow rect{fill:#ff9800;fill-opacity:.3;stroke:#ef6c00;stroke-dasharray:2 2}
 svg.seq .frame[data-diverged] .band{fill:var(--fail);fill-opacity:.35}svg.seq .frame[data-diverged] .bracket{stroke:var(--fail);stroke-width:2.2}
 svg.seq .frame[data-diverged] .pill{fill:#fdecea;stroke:var(--fail)}svg.seq .frame[data-diverged] .flabel{fill:var(--fail)}

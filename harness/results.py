@@ -72,12 +72,13 @@ def divergence_frame(c: "CaseResult") -> dict[str, Any] | None:
 
 def divergence_frame_text(c: "CaseResult") -> str:
     """The divergence's frame in words: 'in the IUT's frame "response REATEL 0Ch -> ...",
-    expected "response REATEL 14h -> ..."'; '' when it falls in no frame."""
+    expected "response REATEL 14h -> ..."' ('during the tester's frame "..."' when it
+    falls in one of the tester's); '' when it falls in no frame."""
     f = divergence_frame(c)
     if f is None:
         return ""
-    who = "the IUT's" if f.get("dir") == "iut" else "the tester's"
-    text = f"in {who} frame \"{f.get('label', '?')}\""
+    where = "in the IUT's" if f.get("dir") == "iut" else "during the tester's"
+    text = f"{where} frame \"{f.get('label', '?')}\""
     exp = f.get("expected")
     if exp and exp != f.get("label"):
         text += f", expected \"{exp}\""

@@ -846,9 +846,14 @@ def mark_divergence_frame(proc: Any, res: R.CaseResult, log: list[dict], steps: 
     if step.kind != "expect" or not step.data:
         return
     before = [e for e in log if e.get("dir") in ("tester", "iut") and e.get("step", -1) < div.step]
-    t = max([float(e.get("t", 0.0)) for e in before] + [float(f["t0"])])
-    synth = before + [{"t": round(t + (k + 1) * 1e-6, 7), "dir": "iut", "kind": "byte", "byte": b,
-                       "step": div.step} for k, b in enumerate(step.data)]
+    # the expected bytes take the times of the bytes that came instead (so that a decoder
+    # that splits by pauses splits alike), those beyond them follow at once
+    came = [float(e["t"]) for e in log if e.get("dir") == "iut" and e.get("step") == div.step
+            and e.get("kind") in ("byte", "char_error") and "t" in e]
+    t = max([float(e.get("t", 0.0)) for e in before] + came + [float(f["t0"])])
+    synth = before + [{"t": came[k] if k < len(came) else round(t + (k - len(came) + 1) * 1e-6, 7),
+                       "dir": "iut", "kind": "byte", "byte": b, "step": div.step}
+                      for k, b in enumerate(step.data)]
     try:
         frames = proc.describe_frames(synth, params)
     except Exception:  # a decoder's fault must not cost the verdict

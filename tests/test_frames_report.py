@@ -231,3 +231,40 @@ def test_a_malformed_frame_is_refused_naming_it(broken, bad, where):
     with pytest.raises(R.ResultsError) as exc:
         R.RunResult.from_dict(d)
     assert where in str(exc.value)
+
+
+# ------------------------------------------------------------------ ASCII: end characters and the CDT
+def test_ascii_frames_name_their_end_characters_and_show_the_cdt():
+    from ptpcert.model.ascii.codec import char_name
+    from test_ascii_suite import COMBOS, reference_profile
+
+    prof = reference_profile(**COMBOS["ec-xon-8-c"])
+    p = prof.params
+    cases = [v for v in load_suite(prof, load_vector_sets()) if v.id == "SUITE.ASCII.EC.TRAILING-DISCARDED"]
+    factory = make_factory("sim:", prof)
+    try:
+        c = Runner(factory, prof, RunOptions()).run_case(cases[0])
+    finally:
+        factory.shutdown()
+    end = set(p.end_sequence)
+    assert end
+    # where each end character ended on the line, per side, from the transcript itself
+    on_line = {(e["dir"], round(e["t"], 6)) for e in R.unpack_transcript(c.transcript)
+               if e.get("kind") == "byte" and e["byte"] in end}
+    framed = [f for f in c.frames if f["label"].startswith("frame")]
+    assert framed and all(f.get("marks") for f in framed)
+    for f in framed:
+        for m in f["marks"]:
+            assert m["name"] == char_name(p.end_sequence[-1]) == "ETX"
+            assert (f["dir"], m["t"]) in on_line
+        assert f["marks"][-1]["t"] == pytest.approx(f["t1"])
+        (w,) = f["windows"]
+        assert w["name"] == "CDT" and w["t0"] == f["t1"] and w["t1"] - w["t0"] == pytest.approx(p.cdt)
+    # a fragment has no end character, but its CDT
+    frag = [f for f in c.frames if f["label"].startswith("fragment")]
+    assert frag and all(not f.get("marks") and f["windows"][0]["name"] == "CDT" for f in frag)
+    groups = frame_groups(c)
+    names = [m.get("data-name") for g in groups for m in g.iter("g") if m.get("class") == "mark"]
+    assert names.count("ETX") == sum(len(f["marks"]) for f in framed)
+    wins = [m for g in groups for m in g.iter("g") if m.get("class") == "fwindow"]
+    assert wins and all(w.get("data-name") == "CDT" for w in wins)
