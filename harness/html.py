@@ -637,9 +637,14 @@ def _frame_arrows(frames: list[dict[str, Any]], events: list) -> dict[int, Any]:
 def _frames_svg(frames: list[dict[str, Any]], frame_at: dict[int, Any], y, end: float,
                 elided: list[tuple[float, float, int]]) -> str:
     out: list[str] = []
+
+    def hidden(f: dict[str, Any]) -> bool:   # partly left out of the diagram: not drawn
+        return any(a < min(f["t1"], end) and f["t0"] < b for a, b, _ in elided)
+
     labels: dict[int, list[int]] = {}     # arrow id -> the frames labelled above it
     for i, e in frame_at.items():
-        labels.setdefault(id(e), []).append(i)
+        if not hidden(frames[i]):
+            labels.setdefault(id(e), []).append(i)
     mid = (TX + IX) // 2
     named = {"tester": -1e9, "iut": -1e9}   # where the last name of a mark or window went, per side
     for i, f in enumerate(frames):
@@ -648,7 +653,7 @@ def _frames_svg(frames: list[dict[str, Any]], frame_at: dict[int, Any], y, end: 
         # runs from each character: the next one stops it); their times are in the tooltip
         nxt = min((g["t0"] for g in frames[i + 1:] if g["dir"] == f["dir"] and g["t0"] >= f["t1"] - 1e-9),
                   default=math.inf)
-        if any(a < t1 and t0 < b for a, b, _ in elided):   # partly left out: not drawn
+        if hidden(f):
             continue
         tester = f["dir"] == "tester"
         y0 = y(t0)
