@@ -46,7 +46,7 @@ W = 940
 AXIS_X = 66          # the time axis; timestamps are right-aligned left of it
 TX = 150             # tester lane
 IX = 590             # IUT lane
-WIN_X = IX + 16      # first window column
+WIN_X = IX + 18      # first window column (right of the IUT's frame brackets)
 WIN_COL = 11         # window column pitch
 WIN_COLS = 4
 TOP = 46             # first row below the lane headers
@@ -57,6 +57,9 @@ PX_PER_MS = 2.4      # ...at this scale
 ELIDED_H = 40        # the band that stands for arrows left out
 MAX_H = 1500         # the most a diagram may take
 DIV_WRAP = 62        # characters per line of the divergence text
+FRAME_H = 15         # room for a frame's label above the label of its first arrow
+FRAME_CHARS = 64     # a frame label longer than this is shortened (the tooltip has it whole)
+MAX_FRAME_H = 300    # the most a diagram may grow beyond MAX_H for its frames' labels
 
 _CODE_RE = re.compile(r"16#[0-9A-Fa-f]{4}")
 _HEXRUN_RE = re.compile(r"(?:\b[0-9A-F]{2}\b ){16,}\b[0-9A-F]{2}\b")
@@ -283,9 +286,11 @@ def _r(t: float) -> float:
 
 
 def _layout(events: list, extra: list[float], end: float, div_t: float | None, div_h: float,
-            elided: list[tuple[float, float, int]]) -> _Layout:
+            elided: list[tuple[float, float, int]], label_h: dict[int, float] | None = None) -> _Layout:
     """Place the key times on the page: linear for short gaps, compressed for long ones,
-    with room for every arrow's label and the divergence text."""
+    with room for every arrow's label (``label_h``: more room above the events, by id,
+    that carry a frame's label too) and the divergence text."""
+    label_h = label_h or {}
     starts: dict[float, list] = {}
     ends: dict[float, list] = {}
     keys = set(extra)
@@ -320,7 +325,7 @@ def _layout(events: list, extra: list[float], end: float, div_t: float | None, d
             if id(e) in y_start:
                 y = max(y, y_start[id(e)] + (12 if isinstance(e, LineBreak) else SLOPE))
         for e in starts.get(t, ()):
-            y = max(y, floor + LABEL_H)
+            y = max(y, floor + LABEL_H + label_h.get(id(e), 0.0))
         if div_t is not None and _r(div_t) == t:
             y = max(y, floor + 6)
         if i > 0 and compressed:
@@ -399,6 +404,7 @@ def sequence_svg(c: R.CaseResult, events: list | None = None) -> str:
     div = c.divergence
     if not all_events and not windows and div is None:
         return ""
+    frames = _frames(c)
     div_t = float(div.time) if div is not None else None
     div_text = ""
     div_lines: list[str] = []
@@ -427,9 +433,13 @@ def sequence_svg(c: R.CaseResult, events: list | None = None) -> str:
         extra += [_r(s) for s in starts]
         if div is not None and div.window:
             extra += [_r(min(float(div.window[0]), end)), _r(min(float(div.window[1]), end))]
-        lay = _layout(events, extra, end, div_t, div_h, elided)
+        frame_at = _frame_arrows(frames, events)
+        label_h = {id(e): FRAME_H for e in frame_at.values()}
+        lay = _layout(events, extra, end, div_t, div_h, elided, label_h)
         bottom = (lay.ys[-1] if lay.ys else TOP) + 30
-        if bottom <= MAX_H or max_events <= 12:
+        # the frames' labels take room of their own: up to MAX_FRAME_H more before arrows
+        # are left out
+        if bottom <= MAX_H + min(MAX_FRAME_H, FRAME_H * len(label_h)) or max_events <= 12:
             break
         max_events = max(12, int(max_events * 0.7))
 
@@ -516,6 +526,10 @@ def sequence_svg(c: R.CaseResult, events: list | None = None) -> str:
         add(f'<rect class="div-window" x="{IX + 3}" y="{y0:.1f}" width="9" height="{max(y1 - y0, 3):.1f}">'
             f'<title>{esc(f"the window that applied: [{ms(w0)}, {ms(w1)}] ms")}</title></rect>')
 
+    # frames: a band and a bracket on the sender's side, marks and windows, the label above
+    # the label of the frame's first arrow
+    add(_frames_svg(frames, frame_at, y, end, elided))
+
     # arrows and line conditions
     arrows_svg: list[str] = []
     mid = (TX + IX) // 2
@@ -586,6 +600,126 @@ def sequence_svg(c: R.CaseResult, events: list | None = None) -> str:
     aria = f"sequence diagram of {c.id}"
     return (f'<svg class="seq" width="{W}" height="{height}" '
             f'viewBox="0 0 {W} {height}" role="img" aria-label="{esc(aria)}">' + "".join(parts) + "</svg>")
+
+
+# ------------------------------------------------------------------ frames
+def _frames(c: R.CaseResult) -> list[dict[str, Any]]:
+    """The case's frames that can be drawn (a sender and a time span), the divergence's
+    frame marked ``diverged`` also in results written before runs marked it."""
+    hit = R.divergence_frame(c)
+    out = []
+    for f in c.frames:
+        try:
+            t0, t1 = float(f["t0"]), float(f["t1"])
+        except (KeyError, TypeError, ValueError):
+            continue
+        if f.get("dir") not in ("tester", "iut"):
+            continue
+        g = dict(f, t0=t0, t1=max(t0, t1), label=str(f.get("label", "")))
+        g["diverged"] = bool(f.get("diverged")) or f is hit
+        out.append(g)
+    return out
+
+
+def _frame_arrows(frames: list[dict[str, Any]], events: list) -> dict[int, Any]:
+    """The arrow each frame's label goes with (by the frame's index): the first arrow of
+    its sender that overlaps its span."""
+    out: dict[int, Any] = {}
+    for i, f in enumerate(frames):
+        for e in events:
+            if (isinstance(e, Arrow) and e.dir == f["dir"] and e.t1 >= f["t0"] - 1e-9
+                    and e.t0 <= f["t1"] + 1e-9):
+                out[i] = e
+                break
+    return out
+
+
+def _frames_svg(frames: list[dict[str, Any]], frame_at: dict[int, Any], y, end: float,
+                elided: list[tuple[float, float, int]]) -> str:
+    out: list[str] = []
+
+    def hidden(f: dict[str, Any]) -> bool:   # partly left out of the diagram: not drawn
+        return any(a < min(f["t1"], end) and f["t0"] < b for a, b, _ in elided)
+
+    labels: dict[int, list[int]] = {}     # arrow id -> the frames labelled above it
+    for i, e in frame_at.items():
+        if not hidden(frames[i]):
+            labels.setdefault(id(e), []).append(i)
+    mid = (TX + IX) // 2
+    named = {"tester": -1e9, "iut": -1e9}   # where the last name of a mark or window went, per side
+    for i, f in enumerate(frames):
+        t0, t1 = f["t0"], min(f["t1"], end)
+        # a frame's windows are drawn up to where its sender's next frame begins (the CDT
+        # runs from each character: the next one stops it); their times are in the tooltip
+        nxt = min((g["t0"] for g in frames[i + 1:] if g["dir"] == f["dir"] and g["t0"] >= f["t1"] - 1e-9),
+                  default=math.inf)
+        if hidden(f):
+            continue
+        tester = f["dir"] == "tester"
+        y0 = y(t0)
+        y1 = max(y(t1), y0 + 4)
+        # the band hugs the sender's lane on its outer side; the bracket closes it
+        bx = TX - 9 if tester else IX + 2
+        kx = TX - 12 if tester else IX + 13
+        ex = TX - 5 if tester else IX + 8
+        tip = [f"frame from the {'tester' if tester else 'IUT'}, {ms(f['t0'])}–{ms(f['t1'])} ms: {f['label']}"]
+        if f.get("frame"):
+            fr = str(f["frame"])
+            tip.append("content: " + (fr if len(fr) <= 150 else fr[:120] + " …"))
+        if f.get("expected") and f.get("expected") != f["label"]:
+            tip.append(f"expected: {f['expected']}")
+        body = [f'<rect class="band" x="{bx}" y="{y0:.1f}" width="7" height="{y1 - y0:.1f}"/>',
+                f'<path class="bracket" d="M{ex} {y0:.1f}H{kx}V{y1:.1f}H{ex}"/>']
+        nx, anchor_ = (TX - 15, "end") if tester else (IX - 5, "end")
+        for m in f.get("marks") or []:
+            try:
+                tm, name = float(m["t"]), str(m.get("name", ""))
+            except (KeyError, TypeError, ValueError):
+                continue
+            if tm > end + 1e-9:
+                continue
+            ym = y(tm)
+            lx0, lx1 = (TX - 14, TX + 4) if tester else (IX - 4, IX + 14)
+            text = ""
+            if ym + 3 - named[f["dir"]] >= 10:   # names that would overlap: the tooltip has them
+                named[f["dir"]] = ym + 3
+                text = f'<text x="{nx}" y="{ym + 3:.1f}" text-anchor="{anchor_}">{esc(name)}</text>'
+            body.append(f'<g class="mark" data-t="{tm:.6f}" data-name="{esc(name)}"><path d="M{lx0} {ym:.1f}H{lx1}"/>'
+                        f'{text}</g>')
+            tip.append(f"{name} at {ms(tm)} ms")
+        for w in f.get("windows") or []:
+            try:
+                w0, w1, name = float(w["t0"]), float(w["t1"]), str(w.get("name", ""))
+            except (KeyError, TypeError, ValueError):
+                continue
+            tip.append(f"{name} {ms(w0)}–{ms(w1)} ms")
+            shown_to = min(w1, end, max(nxt, w0))
+            if w0 > end + 1e-9 or y(shown_to) - y(w0) < 3:
+                continue
+            wy0, wy1 = y(w0), y(shown_to)
+            text = ""
+            ty = max(wy0 + 10, named[f["dir"]] + 10)   # below a name already there, if it fits
+            if ty <= wy1 + 2:
+                named[f["dir"]] = ty
+                text = f'<text x="{nx}" y="{ty:.1f}" text-anchor="{anchor_}">{esc(name)}</text>'
+            body.append(f'<g class="fwindow" data-t0="{w0:.6f}" data-t1="{w1:.6f}" data-name="{esc(name)}"'
+                        + (' data-cut="1"' if shown_to < min(w1, end) else "") + '>'
+                        f'<rect x="{bx - 1}" y="{wy0:.1f}" width="9" height="{wy1 - wy0:.1f}"/>{text}</g>')
+        attrs = (f'data-dir="{f["dir"]}" data-t0="{f["t0"]:.6f}" data-t1="{f["t1"]:.6f}"'
+                 + (' data-diverged="1"' if f["diverged"] else ""))
+        e = frame_at.get(i)
+        if e is not None:
+            ids = labels[id(e)]
+            if ids[0] == i:   # one label line per arrow: the frames that start in it, joined
+                text = " | ".join(frames[k]["label"] for k in ids)
+                if len(text) > FRAME_CHARS:
+                    text = text[:FRAME_CHARS - 1] + "…"
+                ly = y(e.lt0) - 4 - LABEL_H + 1
+                wpx = 6.6 * len(text) + 10
+                body.append(f'<rect class="pill" x="{mid - wpx / 2:.0f}" y="{ly - 11:.1f}" width="{wpx:.0f}" '
+                            f'height="14" rx="7"/><text class="flabel" x="{mid}" y="{ly:.1f}">{esc(text)}</text>')
+        out.append(f'<g class="frame" {attrs}><title>{esc(chr(10).join(tip))}</title>{"".join(body)}</g>')
+    return "".join(out)
 
 
 # ------------------------------------------------------------------ STATUS events
@@ -675,6 +809,15 @@ svg.seq .window text{font:10px system-ui,sans-serif;fill:#3b64b3}svg.seq .leader
 svg.seq .gap path{stroke:#555;fill:none}svg.seq .gap .cut{fill:#fff}svg.seq .gap text{text-anchor:end;font-size:10px;fill:#555}
 svg.seq .elided rect{fill:#f2f2f2}svg.seq .elided text{text-anchor:middle;fill:#666;font-style:italic}
 svg.seq .start path{stroke:#999;stroke-dasharray:2 3}svg.seq .start text{font-size:9px;fill:#777}
+svg.seq .frame .band{fill:#2e7d32;fill-opacity:.22}svg.seq .frame[data-dir=iut] .band{fill:#0d47a1}
+svg.seq .frame .bracket{stroke:#2e7d32;stroke-width:1.4;fill:none}svg.seq .frame[data-dir=iut] .bracket{stroke:#0d47a1}
+svg.seq .frame .pill{fill:#e8f5e9;stroke:#a5d6a7}svg.seq .frame[data-dir=iut] .pill{fill:#e3f2fd;stroke:#90caf9}
+svg.seq .flabel{text-anchor:middle;font-weight:600;fill:#1b5e20}svg.seq .frame[data-dir=iut] .flabel{fill:#0d47a1}
+svg.seq .frame .mark path{stroke:#6a1b9a;stroke-width:1.6}
+svg.seq .frame .mark text,svg.seq .frame .fwindow text{font-size:9px;fill:#6a1b9a;paint-order:stroke;stroke:#fff;stroke-width:3px}
+svg.seq .frame .fwindow rect{fill:#ff9800;fill-opacity:.3;stroke:#ef6c00;stroke-dasharray:2 2}
+svg.seq .frame[data-diverged] .band{fill:var(--fail);fill-opacity:.35}svg.seq .frame[data-diverged] .bracket{stroke:var(--fail);stroke-width:2.2}
+svg.seq .frame[data-diverged] .pill{fill:#fdecea;stroke:var(--fail)}svg.seq .frame[data-diverged] .flabel{fill:var(--fail)}
 svg.seq .divergence path{stroke:var(--fail);stroke-width:1.5;stroke-dasharray:6 3}svg.seq .divergence circle{fill:var(--fail)}
 svg.seq .divergence text{fill:var(--fail);font-weight:700;font-family:system-ui,sans-serif}
 svg.seq .divergence .ts{fill:var(--fail)}svg.seq .div-box{fill:#fdecea;fill-opacity:.92}
@@ -872,11 +1015,37 @@ def _transcript_text(c: R.CaseResult, events: list | None = None) -> str:
                                              f"{e.get('label', '')} until {ms(float(e['t1']))} ms"))
         elif e.get("kind") == "start" and "t" in e:
             items.append((float(e["t"]), 1, f"{ms(float(e['t'])):>10} ms  the steps start"))
+    for f in _frames(c):   # each frame on a line of its own, before the bytes it spans
+        items.append((f["t0"], -1, _frame_line(f)))
     items.sort(key=lambda x: (x[0], x[1]))
     lines = [x[2] for x in items]
     if not lines:
         return ""
     return "<details><summary>transcript</summary><pre>" + esc("\n".join(lines)) + "</pre></details>"
+
+
+def _frame_line(f: dict[str, Any]) -> str:
+    """A frame as one line of the text transcript: "▸ frame IUT  21.771–26.354 ms: label
+    [ETX at ..; CDT ..–.. ms]"."""
+    who = "tester" if f["dir"] == "tester" else "iut"
+    mark = "✗" if f["diverged"] else "▸"
+    line = f"{ms(f['t0']):>10} ms  {who:<6} {mark} frame {ms(f['t0'])}–{ms(f['t1'])} ms: {f['label']}"
+    extra = []
+    for m in f.get("marks") or []:
+        if isinstance(m, dict) and _is_num(m.get("t")):
+            extra.append(f"{m.get('name', '?')} at {ms(float(m['t']))} ms")
+    for w in f.get("windows") or []:
+        if isinstance(w, dict) and _is_num(w.get("t0")) and _is_num(w.get("t1")):
+            extra.append(f"{w.get('name', '?')} {ms(float(w['t0']))}–{ms(float(w['t1']))} ms")
+    if extra:
+        line += "  [" + "; ".join(extra) + "]"
+    if f["diverged"] and f.get("expected") and f.get("expected") != f["label"]:
+        line += f"  (expected: {f['expected']})"
+    return line
+
+
+def _is_num(x: Any) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
 
 
 def _case(c: R.CaseResult, used: set[str]) -> str:
@@ -928,7 +1097,8 @@ def _case(c: R.CaseResult, used: set[str]) -> str:
                if d.window else "")
         body.append(f'<div class="divbox"><b>first divergence</b> at {step_text(d.step)}{ms(d.time)} ms{esc(win)}:'
                     f"<br>expected {esc(name_controls(abbreviate_hex(d.expected)))}"
-                    f"<br>observed {esc(name_controls(abbreviate_hex(d.observed)))}</div>")
+                    f"<br>observed {esc(name_controls(abbreviate_hex(d.observed)))}"
+                    + (f"<br>{esc(where)}" if (where := R.divergence_frame_text(c)) else "") + "</div>")
     events = group_events(c.transcript)
     svg = sequence_svg(c, events)
     if svg:

@@ -50,7 +50,38 @@ def transcript_text(c: R.CaseResult, tail: int = 40) -> str:
         val = "" if kind == "break" else f"{value:02X}"
         lines.append(f"{t * 1000:10.3f} ms  {who} -> {what}{val}")
     lines += [R.dropped_note(e) for e in c.transcript if e.get("kind") == "dropped"]
+    if c.frames and lines:
+        lines += ["", "frames:"] + frame_lines(c, tail=12)
     return "\n".join(lines)
+
+
+def frame_lines(c: R.CaseResult, tail: int | None = None) -> list[str]:
+    """The case's frames as text lines (the last ``tail`` of them): time span, sender,
+    label, with end characters and windows named; the divergence's frame marked."""
+    frames = c.frames if tail is None else c.frames[-tail:]
+    out = []
+    if tail is not None and len(c.frames) > tail:
+        out.append(f"  ({len(c.frames) - tail} earlier frames not shown)")
+    for f in frames:
+        try:
+            t0, t1 = float(f["t0"]) * 1000, float(f["t1"]) * 1000
+        except (KeyError, TypeError, ValueError):
+            continue
+        who = "tester" if f.get("dir") == "tester" else "IUT   "
+        mark = ">>" if f.get("diverged") else "  "
+        line = f"{mark}{t0:10.3f}-{t1:.3f} ms  {who} frame {f.get('label', '')}"
+        num = (int, float)
+        extra = [f"{m.get('name', '?')} at {m['t'] * 1000:.3f} ms" for m in f.get("marks") or []
+                 if isinstance(m, dict) and isinstance(m.get("t"), num)]
+        extra += [f"{w.get('name', '?')} {w['t0'] * 1000:.3f}-{w['t1'] * 1000:.3f} ms"
+                  for w in f.get("windows") or []
+                  if isinstance(w, dict) and isinstance(w.get("t0"), num) and isinstance(w.get("t1"), num)]
+        if extra:
+            line += "  [" + "; ".join(extra) + "]"
+        if f.get("diverged") and f.get("expected") and f.get("expected") != f.get("label"):
+            line += f"  (expected {f['expected']})"
+        out.append(line)
+    return out
 
 
 def failure_text(c: R.CaseResult) -> str:
@@ -59,6 +90,9 @@ def failure_text(c: R.CaseResult) -> str:
         d = c.divergence
         parts.append(f"first divergence at {step_text(d.step)}{d.time * 1000:.3f} ms: "
                      f"expected {d.expected}; {d.observed}")
+        where = R.divergence_frame_text(c)
+        if where:
+            parts.append(where)
     parts.append(f"expected STATUS at the IUT: {c.expected_status}")
     if c.status_checked:
         parts.append("reported STATUS: " + (", ".join(c.observed_status) or "none"))
@@ -94,7 +128,11 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
             detail = f"deviation {group_of[c.id]} of {n_groups}: {g['description']}\n\n" + detail
         if kind == "failure":
             tag = f"[deviation {group_of[c.id]} of {n_groups}] " if c.id in group_of else ""
-            tc.add_failure_info(message=f"{tag}{c.verdict}: {c.message}"[:500], output=detail, failure_type=c.verdict)
+            where = R.divergence_frame_text(c)
+            msg = f"{tag}{c.verdict}: {c.message}" + (f"; {where}" if where else "")
+            if len(msg) > 500 and where:   # the frame stays in view; the message gives way
+                msg = f"{tag}{c.verdict}: {c.message}"[:480 - len(where)] + f"…; {where}"
+            tc.add_failure_info(message=msg[:500], output=detail, failure_type=c.verdict)
         elif kind == "error":
             tc.add_error_info(message=c.message[:500], output=detail, error_type="harness")
         elif kind == "skipped":
@@ -192,6 +230,9 @@ def summary(run: R.RunResult) -> str:
             if c.divergence is not None:
                 d = c.divergence
                 lines.append(f"         {step_text(d.step)}at {d.time * 1000:.1f} ms: expected {d.expected}; {d.observed}")
+                where = R.divergence_frame_text(c)
+                if where:
+                    lines.append(f"         {where[:300]}")
             link = case_link(run, c)
             if link:
                 lines.append(f"         {link}")

@@ -37,6 +37,55 @@ SCHEMA_V1 = "ptpcert-results/1"
 SCHEMAS = (SCHEMA, SCHEMA_V1)
 
 
+#: The fields of a frame in :attr:`CaseResult.frames` (what
+#: :meth:`ptpcert.procedure.Procedure.describe_frames` returns; the reports draw them).
+#: Times are seconds on the case's clock, as in the transcript.
+FRAME_FIELDS = {
+    "dir": 'who sent the frame: "tester" or "iut"',
+    "t0": "where the frame begins (its first character, or the answer that opened it)",
+    "t1": "where it ends (its last character)",
+    "label": 'the frame decoded, for people: "SEND DB10 DW0 200 bytes, accepted (DLE)"',
+    "frame": "optional: the frame's content in hex (without the link's framing)",
+    "marks": 'optional: named instants inside it, a list of {"t": seconds, "name": str} '
+             '(e.g. an end character "ETX")',
+    "windows": 'optional: named spans that belong to it, a list of {"t0", "t1", "name"} '
+               '(e.g. the "CDT" after its last character)',
+    "diverged": "optional: true when the case's first divergence falls in this frame",
+    "expected": "optional: the label of the frame the case expected in its place",
+}
+
+
+def divergence_frame(c: "CaseResult") -> dict[str, Any] | None:
+    """The frame the case's first divergence falls in, or None: the one the run marked
+    ``diverged``; for results without the mark, the IUT's frame (else the tester's) whose
+    span holds the divergence's time."""
+    if c.divergence is None:
+        return None
+    for f in c.frames:
+        if f.get("diverged"):
+            return f
+    t = float(c.divergence.time)
+    hits = [f for f in c.frames if _is(f.get("t0"), (int, float)) and _is(f.get("t1"), (int, float))
+            and float(f["t0"]) - 1e-6 <= t <= float(f["t1"]) + 1e-6]
+    hits.sort(key=lambda f: f.get("dir") != "iut")
+    return hits[0] if hits else None
+
+
+def divergence_frame_text(c: "CaseResult") -> str:
+    """The divergence's frame in words: 'in the IUT's frame "response REATEL 0Ch -> ...",
+    expected "response REATEL 14h -> ..."' ('during the tester's frame "..."' when it
+    falls in one of the tester's); '' when it falls in no frame."""
+    f = divergence_frame(c)
+    if f is None:
+        return ""
+    where = "in the IUT's" if f.get("dir") == "iut" else "during the tester's"
+    text = f"{where} frame \"{f.get('label', '?')}\""
+    exp = f.get("expected")
+    if exp and exp != f.get("label"):
+        text += f", expected \"{exp}\""
+    return text
+
+
 def worse_grade(a: str, b: str) -> str:
     return a if GRADE_ORDER.index(a) >= GRADE_ORDER.index(b) else b
 
@@ -69,7 +118,8 @@ class CaseResult:
     observed_status: list[str] = field(default_factory=list)  # reported by the IUT
     status_checked: bool = False
     transcript: list[dict[str, Any]] = field(default_factory=list)
-    #: frames the procedure found in the transcript (dir, t0, t1, label), for reports
+    #: frames the procedure found in the transcript, for reports: dicts with the fields of
+    #: :data:`FRAME_FIELDS` (``dir``, ``t0``, ``t1``, ``label`` always; the rest optional)
     frames: list[dict[str, Any]] = field(default_factory=list)
     steps: list[dict[str, Any]] = field(default_factory=list)  # expanded steps, for reports
     origin: float = 0.0                # the transport clock at the case's time 0 (monotonic)
@@ -501,6 +551,8 @@ def _check_run(d: Any) -> None:
                     raise ResultsError(f"{where}.{name}[{j}]: must be an object")
         for j, e in enumerate(c.get("transcript", [])):
             _check_entry(e, f"{where}.transcript[{j}]")
+        for j, e in enumerate(c.get("frames", [])):
+            _check_frame(e, f"{where}.frames[{j}]")
         for name in ("observed_status", "readings", "notes"):
             if any(not isinstance(x, str) for x in c.get(name, [])):
                 raise ResultsError(f"{where}.{name}: must be a list of strings")
@@ -517,6 +569,23 @@ def _check_divergence(div: Any, where: str) -> None:
     w = div.get("window")
     if w is not None and not (isinstance(w, list) and len(w) == 2 and all(_is(x, (int, float)) for x in w)):
         raise ResultsError(f"{where}.divergence.window: must be null or [from, to] in seconds")
+
+
+def _check_frame(f: dict[str, Any], where: str) -> None:
+    """A frame's fields (:data:`FRAME_FIELDS`) have their types."""
+    for key in ("t0", "t1"):
+        if not _is(f.get(key), (int, float)):
+            raise ResultsError(f"{where}.{key}: must be a number (seconds)")
+    if f.get("dir") not in ("tester", "iut"):
+        raise ResultsError(f"{where}.dir: {f.get('dir')!r} (allowed: tester, iut)")
+    for key, times in (("marks", ("t",)), ("windows", ("t0", "t1"))):
+        items = f.get(key, [])
+        if not isinstance(items, list):
+            raise ResultsError(f"{where}.{key}: must be a list of objects")
+        for k, m in enumerate(items):
+            if not isinstance(m, dict) or not all(_is(m.get(t), (int, float)) for t in times):
+                raise ResultsError(f"{where}.{key}[{k}]: must be an object with "
+                                   + ", ".join(f"\"{t}\"" for t in times) + " (seconds) and \"name\"")
 
 
 def _check_entry(e: dict[str, Any], where: str) -> None:

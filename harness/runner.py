@@ -898,6 +898,7 @@ class Runner:
             res.transcript = run.transcript()
             try:
                 res.frames = v.proc.describe_frames(run.log, params)
+                mark_divergence_frame(v.proc, res, run.log, steps, params)
             except Exception as exc:  # a decoder's fault must not cost the verdict
                 res.notes.append(f"frames could not be decoded: {type(exc).__name__}: {exc}")
             res.origin = run.t0
@@ -1107,3 +1108,37 @@ class Runner:
                                                          verdict=R.NOT_RUN, message=stop_reason))
             result.wall_time = round(time.monotonic() - t0, 3)
         return result
+
+
+def mark_divergence_frame(proc: Any, res: R.CaseResult, log: list[dict], steps: tuple[Step, ...],
+                          params: Any) -> None:
+    """Mark the frame the first divergence falls in (``diverged``) and, where the step that
+    diverged expected bytes from the IUT, name the frame expected in its place
+    (``expected``): the procedure decodes the transcript with those bytes put in for what
+    came at that step."""
+    f = R.divergence_frame(res)
+    if f is None:
+        return
+    f["diverged"] = True
+    div = res.divergence
+    if f.get("dir") != "iut" or not 0 <= div.step < len(steps):
+        return
+    step = steps[div.step]
+    if step.kind != "expect" or not step.data:
+        return
+    before = [e for e in log if e.get("dir") in ("tester", "iut") and e.get("step", -1) < div.step]
+    # the expected bytes take the times of the bytes that came instead (so that a decoder
+    # that splits by pauses splits alike), those beyond them follow at once
+    came = [float(e["t"]) for e in log if e.get("dir") == "iut" and e.get("step") == div.step
+            and e.get("kind") in ("byte", "char_error") and "t" in e]
+    t = max([float(e.get("t", 0.0)) for e in before] + came + [float(f["t0"])])
+    synth = before + [{"t": came[k] if k < len(came) else round(t + (k - len(came) + 1) * 1e-6, 7),
+                       "dir": "iut", "kind": "byte", "byte": b, "step": div.step}
+                      for k, b in enumerate(step.data)]
+    try:
+        frames = proc.describe_frames(synth, params)
+    except Exception:  # a decoder's fault must not cost the verdict
+        return
+    same = [g for g in frames if g.get("dir") == "iut" and abs(float(g["t0"]) - float(f["t0"])) < 1e-6]
+    if same:
+        f["expected"] = same[0]["label"]

@@ -358,13 +358,34 @@ class PAscii(Procedure):
     def describe_frames(self, transcript: list[dict[str, Any]], params: AsciiParams) -> list[dict[str, Any]]:
         """The frames each side sent, as a receiver with the IUT's settings delimits them:
         end characters and XON/XOFF named, fragments marked, and for each frame the CDT
-        window after its last character (the pause that ends it, or its watchdog)."""
+        window after its last character (the pause that ends it, or its watchdog).
+
+        Each frame and fragment carries ``marks``: its end character(s) by name, or the
+        character that completes a fixed-length frame ("fixed length"), at the time its
+        last stop bit ends; and ``windows``: the CDT from its last character, the pause
+        that ends a frame under the CDT criterion and the watchdog under the others
+        (§2.2.4, the receive end criteria)."""
         char = params.char_time
+        flow = (params.xon, params.xoff) if params.flow_control == "xon_xoff" else ()
         out: list[dict[str, Any]] = []
         for side in ("tester", "iut"):
             timed = [(e["t"] - char, e["byte"]) for e in transcript
                      if e.get("dir") == side and e.get("kind") in ("byte", "char_error")]
+            # frames and fragments take the characters other than XON/XOFF in turn: where
+            # each of their characters ends, for the marks
+            ends = [t + char for t, b in timed if b not in flow]
+            k = 0
             for p in split_frames(timed, params):
+                marks: list[dict[str, Any]] = []
+                if p.kind in ("frame", "fragment"):
+                    mine = ends[k:k + len(p.data)]
+                    k += len(p.data)
+                    if p.end_len and len(mine) == len(p.data):
+                        marks = [{"t": round(t, 6), "name": char_name(b)}
+                                 for t, b in zip(mine[-p.end_len:], p.data[-p.end_len:])]
+                    elif (p.kind == "frame" and params.end_criterion == "fixed_length"
+                          and mine and len(p.data) == params.fixed_length):
+                        marks = [{"t": round(mine[-1], 6), "name": "fixed length"}]
                 if p.kind in ("xon", "xoff"):
                     label = f"{p.kind.upper()} ({p.data[0]:02X})"
                 else:
@@ -373,14 +394,19 @@ class PAscii(Procedure):
                     if p.end_len:
                         text = (text + " " if text else "") + " ".join(f"<{char_name(b)}>" for b in p.data[len(body):])
                     what = "frame" if p.kind == "frame" else "fragment (incomplete)"
-                    label = f"{what} {text} ({len(p.data)} bytes)"
+                    label = f"{what} {text} ({len(p.data)} byte{'s' if len(p.data) != 1 else ''})"
                 t0 = None if p.start is None else round(p.start, 6)
                 t1 = None if p.end is None else round(p.end, 6)
+                if t0 is None or t1 is None:
+                    continue
                 item = {"dir": side, "t0": t0, "t1": t1, "label": label}
-                if p.kind in ("frame", "fragment") and t1 is not None:
+                if p.kind in ("frame", "fragment"):
                     item["cdt_until"] = round(t1 + params.cdt, 6)
+                    item["windows"] = [{"t0": t1, "t1": item["cdt_until"], "name": "CDT"}]
+                    if marks:
+                        item["marks"] = marks
                 out.append(item)
-        out.sort(key=lambda f: (f["t0"] is None, f["t0"] or 0.0))
+        out.sort(key=lambda f: f["t0"])
         return out
 
     # -- broken variants and fuzzing ------------------------------------------------------

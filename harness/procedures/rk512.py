@@ -484,7 +484,8 @@ def decode_blocks(transcript: list[dict[str, Any]], bcc: bool) -> list[dict[str,
     frame it carries (:func:`ptpcert.model.rk512.codec.describe`): a block begins after the
     other side's DLE answers the sender's STX, ends with DLE ETX (3964R: and the BCC), and
     is followed by the other side's DLE (accepted) or NAK (refused). Blocks cut off by the
-    other side, or with a DLE followed by another character, are labelled as such."""
+    other side, with a DLE followed by another character, or not finished when the
+    transcript ends (a case stops at its first divergence) are labelled as such."""
     out: list[dict[str, Any]] = []
     state: dict[str, Any] = {"iut": None, "tester": None}   # None, "setup", a block dict
     waiting: dict[str, dict | None] = {"iut": None, "tester": None}  # a finished block awaiting its answer
@@ -545,6 +546,14 @@ def decode_blocks(transcript: list[dict[str, Any]], bcc: bool) -> list[dict[str,
                             "bcc_next": False, "error": None}
         elif b == codec.NAK and state[other] == "setup":
             state[other] = None
+    for d in ("tester", "iut"):   # a block the transcript ends in (the case stopped there)
+        blk = state[d]
+        if isinstance(blk, dict) and blk["raw"]:
+            label = describe_frame(bytes(blk["data"]))
+            out.append({"dir": d, "t0": blk["t0"], "t1": blk["t1"],
+                        "label": f"{label}, unfinished after {len(blk['raw'])} byte{'s' if len(blk['raw']) != 1 else ''}",
+                        "frame": bytes(blk["data"]).hex(" ").upper()})
+    out.sort(key=lambda f: f["t0"])
     return out
 
 
