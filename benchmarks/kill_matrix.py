@@ -5,6 +5,7 @@ caught it. Prints figures; asserts nothing.
     python benchmarks/kill_matrix.py --exec          # the mutants as real processes (ptpcert iut --mutant)
     python benchmarks/kill_matrix.py --independent   # the independent implementation's broken variants
     python benchmarks/kill_matrix.py --procedure RK512 [--exec]   # the RK 512 variants
+    python benchmarks/kill_matrix.py --procedure RK512 --independent   # the independent RK 512 station's variants
 
 Each variant runs with the profile its broken rule needs (e.g. priority high for a priority
 bug), at the shortest legal timers.
@@ -49,8 +50,14 @@ def rk512_variants(args):
     with timers a loaded machine can keep (the tester answers the IUT's STX within its ADT)."""
     from ptpcert.procedures import by_id
     from ptpcert.profile import profile_from_dict
-    from rk512_profiles import iut_command, rk_profile_dict
+    from rk512_profiles import independent_command, independent_variants, iut_command, rk_profile_dict
 
+    if args.independent:
+        # the independent station is a real process: the real-time timers of the exec: runs
+        for name, rule in independent_variants().items():
+            raw = rk_profile_dict(cdt=100, adt=100, t_res=1000)
+            yield name, rule, independent_command(raw, brk=name), profile_from_dict(raw)
+        return
     for name, m in by_id("rk512").mutants().items():
         raw = rk_profile_dict(**m.profile, **(dict(cdt=100, adt=100, t_res=1000) if args.exec else {}))
         url = iut_command(raw, mutant=name) if args.exec else f"sim:?mutant={name}"
