@@ -36,7 +36,10 @@ sys.path.insert(0, str(ROOT / "tests"))
 def run(url: str, profile) -> R.RunResult:
     cases = load_suite(profile, load_vector_sets())
     factory = make_factory(url, profile)
-    runner = Runner(factory, profile, RunOptions(echo=profile.echo, check_status=profile.status_from_stderr))
+    # a real process on a loaded machine may be slow to start: its late start-up NAK is no verdict
+    startup = 2.0 if url.startswith("sim:") else 5.0
+    runner = Runner(factory, profile, RunOptions(echo=profile.echo, check_status=profile.status_from_stderr,
+                                                 startup_timeout=startup))
     res = R.RunResult(tool_version="bench", started="")
     try:
         runner.run(cases, res)
