@@ -6,6 +6,7 @@ caught it. Prints figures; asserts nothing.
     python benchmarks/kill_matrix.py --independent   # the independent implementation's broken variants
     python benchmarks/kill_matrix.py --procedure RK512 [--exec]   # the RK 512 variants
     python benchmarks/kill_matrix.py --procedure ASCII [--exec | --independent]   # the ASCII driver's
+    python benchmarks/kill_matrix.py --procedure RK512 --independent   # the independent RK 512 station's variants
 
 Each variant runs with the profile its broken rule needs (e.g. priority high for a priority
 bug), at the shortest legal timers.
@@ -36,7 +37,10 @@ sys.path.insert(0, str(ROOT / "tests"))
 def run(url: str, profile) -> R.RunResult:
     cases = load_suite(profile, load_vector_sets())
     factory = make_factory(url, profile)
-    runner = Runner(factory, profile, RunOptions(echo=profile.echo, check_status=profile.status_from_stderr))
+    # a real process on a loaded machine may be slow to start: its late start-up NAK is no verdict
+    startup = 2.0 if url.startswith("sim:") else 5.0
+    runner = Runner(factory, profile, RunOptions(echo=profile.echo, check_status=profile.status_from_stderr,
+                                                 startup_timeout=startup))
     res = R.RunResult(tool_version="bench", started="")
     try:
         runner.run(cases, res)
@@ -50,8 +54,14 @@ def rk512_variants(args):
     with timers a loaded machine can keep (the tester answers the IUT's STX within its ADT)."""
     from ptpcert.procedures import by_id
     from ptpcert.profile import profile_from_dict
-    from rk512_profiles import iut_command, rk_profile_dict
+    from rk512_profiles import independent_command, independent_variants, iut_command, rk_profile_dict
 
+    if args.independent:
+        # the independent station is a real process: the real-time timers of the exec: runs
+        for name, rule in independent_variants().items():
+            raw = rk_profile_dict(cdt=100, adt=100, t_res=1000)
+            yield name, rule, independent_command(raw, brk=name), profile_from_dict(raw)
+        return
     for name, m in by_id("rk512").mutants().items():
         raw = rk_profile_dict(**m.profile, **(dict(cdt=100, adt=100, t_res=1000) if args.exec else {}))
         url = iut_command(raw, mutant=name) if args.exec else f"sim:?mutant={name}"

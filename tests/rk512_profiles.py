@@ -54,3 +54,28 @@ def iut_command(raw: dict, mutant: str | None = None, scheme: str = "exec") -> s
            f"--byte-area-bytes {rk['byte_area_bytes']} --cell-area-cells {rk['cell_area_cells']} --parmrk "
            "--requests {requests}" + (f" --mutant {mutant}" if mutant else ""))
     return f"exec:{cmd}" if scheme == "exec" else f"pty:{cmd} --port {{port}}"
+
+
+#: the RK 512 station written by someone else from the manual alone (tests/independent/rk512)
+INDEPENDENT = ROOT / "tests" / "independent" / "rk512" / "iut_rk512.py"
+
+
+def independent_command(raw: dict, brk: str | None = None, scheme: str = "exec") -> str:
+    """The independent RK 512 station for the profile, through exactly the interface of an RK 512
+    IUT (request script in {requests}, the set-ups' words appended), as an exec:/pty: URL. It
+    reads and writes the line on stdin/stdout, so over pty: the shell points both at {port}."""
+    iut, rk = raw["iut"], raw["rk512"]
+    cmd = (f"{PY} {INDEPENDENT} --link {rk['link']} --priority {iut['priority']} "
+           f"--cdt-ms {iut['character_delay_ms']} --adt-ms {iut['acknowledgement_delay_ms']} "
+           f"--setup-attempts {iut['setup_attempts']} --transmission-attempts {iut['transmission_attempts']} "
+           f"--tres-ms {rk['response_time_ms']} --db-bytes {rk['db_bytes']} "
+           f"--byte-area-bytes {rk['byte_area_bytes']} --cell-area-cells {rk['cell_area_cells']} --parmrk "
+           "--requests {requests}" + (f" --break {brk}" if brk else ""))
+    return f"exec:{cmd}" if scheme == "exec" else f"pty:{cmd} <{{port}} >{{port}}"
+
+
+def independent_variants() -> dict[str, str]:
+    """The independent station's broken variants: name -> the rule it breaks (``--list-breaks``)."""
+    import subprocess
+    out = subprocess.run([PY, str(INDEPENDENT), "--list-breaks"], capture_output=True, text=True, check=True).stdout
+    return {line.split()[0]: line[len(line.split()[0]):].strip() for line in out.splitlines() if line.strip()}

@@ -208,11 +208,8 @@ def test_profile_errors_name_the_key(change, key):
 
 
 # -- real time: the reference IUT over exec: and pty: ---------------------------------------------
-#: a representative subset: the link, both roles, every group, set-ups, T_RES on both sides
-SUBSET = ["*L-02.DLE-IN*", "*L-03*", "*L-05*", "*P-01.SEND-10", "*P-02.SEND-200", "*P-05.FETCH-D-300",
-          "*P-07C.E-51", "*P-08.SEND-CONTINUATION-BYTE3", "*P-09A*", "*P-10.CONTINUATION-IN-TIME", "*P-11.FLAG-SET*",
-          "*P-12*", "*P-16*", "*A-01.SEND-DB", "*A-02.FETCH-COUNTERS", "*A-03.FETCH-300", "*A-05.RESPONSE-AT*",
-          "*A-06.REATEL-34-CONTINUATION", "*A-07.BYTE1-01", "*A-08.FIGURE-2-17", "*A-10*", "RK512.EX1.*"]
+# The whole suite against the real-time reference IUT (both links, both priorities, exec: and
+# pty:) is tests/test_rk512_independent.py::test_the_whole_suite_passes_the_real_time_reference.
 
 
 #: timers for real processes on a loaded machine: where the IUT sends first (its requests,
@@ -227,20 +224,6 @@ def ptpcert_run(tmp_path, url, raw, *extra):
                         *extra], cwd=ROOT, capture_output=True, text=True, timeout=600)
     assert j.exists(), p.stderr[-2000:]
     return p, json.loads(j.read_text())
-
-
-@pytest.mark.realtime
-@pytest.mark.parametrize("link,prio,scheme,count", [("3964R", "low", "exec", None), ("3964R", "high", "pty", 12),
-                                                    ("3964", "high", "exec", 12), ("3964", "low", "pty", 8)])
-def test_a_representative_subset_passes_the_real_time_reference(tmp_path, link, prio, scheme, count):
-    raw = rk_profile_dict(link, prio, **REALTIME)
-    select = SUBSET[:count] if count else SUBSET
-    args = [a for s in select for a in ("--select", s)]
-    p, data = ptpcert_run(tmp_path, iut_command(raw, scheme=scheme), raw, *args)
-    bad = {c["id"]: c["message"] for c in data["cases"] if c["verdict"] in ("fail", "error", "xpass")}
-    assert p.returncode == 0 and not bad, bad
-    assert sum(c["verdict"] == "pass" for c in data["cases"]) >= min(len(select), len(data["cases"])) - 2
-    assert any(c["frames"] for c in data["cases"])
 
 
 @pytest.mark.realtime

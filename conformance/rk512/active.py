@@ -201,7 +201,9 @@ def responses(c):
         c, "A-07.SHORT-RESPONSE", "A 3-byte response: 16#0610, the request ends then or at T_RES",
         "§8.3 Table 8-1 16#0610 (frame too short), 16#0A05",
         "A response shorter than 4 bytes is too short (16#0610); the manual does not say whether the request ends at once or waits for T_RES.",
-        "active-response", [one], [receive(one_f, within="STARTUP"), prime(bytes(3))],
+        "active-response", [one],
+        [receive(one_f, within="STARTUP"), prime(bytes(3)),
+         silence("TRES + 2*ADT", note="the request ends at once or at T_RES; nothing further is sent for it")],
         [failed(label(one), "16#0610", "16#0A05")], iut=((), ["16#0610", "16#0A05"]), readings=["AMB-10", "AMB-19"],
         provenance="[S][O]"))
     out.append(_active(
