@@ -85,6 +85,11 @@ def add_commands(sub) -> None:
                    help="the application: 3964/3964R: echo (default) or none; RK 512: script (default)")
     i.add_argument("--mutant", metavar="NAME", help="run a deliberately broken variant (see --list-mutants)")
     i.add_argument("--list-mutants", action="store_true", help="list the broken variants and exit")
+    i.add_argument("--send", action="append", default=[], metavar="HEX",
+                   help="data the application hands over at start-up (repeatable): 3964/3964R a block, sent "
+                        "after the start-up NAK (e.g. '31 32 33'; with a partner's echo application two stations "
+                        "then keep the line busy); ASCII send jobs, hex payloads separated by commas, '-' for "
+                        "LEN 0 (the send_job setup)")
     i.add_argument("-v", "--verbose", action="store_true", help="also log deliveries and job results on stderr")
     for proc in PROCEDURES:
         proc.add_iut_arguments(i.add_argument_group(f"{proc.title} options"))

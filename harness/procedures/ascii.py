@@ -318,9 +318,6 @@ class PAscii(Procedure):
         group.add_argument("--echo-delay-ms", type=int, default=0,
                            help="ASCII: the application reads a stored frame only after it has been in the "
                                 "receive buffer this long (the slow_reader setup)")
-        group.add_argument("--send", default="", metavar="HEX,...",
-                           help="ASCII: send jobs handed to the driver at start-up, hex payloads separated by "
-                                "commas, '-' for LEN 0 (the send_job setup)")
 
     def params_from_iut(self, args) -> AsciiParams:
         if args.baud == 0:
@@ -346,7 +343,7 @@ class PAscii(Procedure):
         station = self.station(params, mutant=args.mutant)
         host = AsciiHost(station, args.app, read_delay=args.echo_delay_ms / 1000.0)
         try:
-            jobs = parse_jobs(args.send)
+            jobs = parse_jobs(",".join(getattr(args, "send", ())))
         except ValueError as exc:
             raise ProcedureError("--send", f"hex payloads separated by commas: {exc}") from None
         now = time.monotonic()

@@ -119,10 +119,6 @@ class P3964(Procedure):
         group.add_argument("--buffer", choices=["free", "full"], default="free",
                            help="full: the application never frees the receive buffer, so every STX gets "
                                 "NAK after 400 ms (the no_buffer setup)")
-        group.add_argument("--send", action="append", default=[], metavar="HEX",
-                           help="a block the application hands over at start-up, sent after the start-up NAK "
-                                "(repeatable; e.g. 31 32 33): with the echo application of a partner, two "
-                                "stations then keep the line busy")
 
     def params_from_iut(self, args) -> Params3964:
         try:
