@@ -283,7 +283,7 @@ BROKEN_RULE = {
     "bcc-dle-counted-once": "Sending data", "no-dle-doubling": "Sending data",
     "bcc-doubled-when-dle": "Send", "no-dle-undoubling": "'dual DLE'",
     "bcc-not-checked": "Receive", "ack-at-etx-in-3964r": "Table 2-3", "dle-other-accepted": "Receive",
-    "parity-error-ignored": "Receive", "parity-error-nak-at-once": "Receive",
+    "parity-error-ignored": "Send/setup", "parity-error-nak-at-once": "Receive",
     "no-cdt-after-dle": "T_CDT", "repetition-refused": "Receive/setup",
     "no-startup-nak": "Fig. 2-9", "idle-nak-without-quiet-wait": "Receive/setup",
     "idle-stray-ignored": "Receive/setup", "nak-in-idle-answered": "Fig. 2-11",
