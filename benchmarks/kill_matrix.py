@@ -5,6 +5,7 @@ caught it. Prints figures; asserts nothing.
     python benchmarks/kill_matrix.py --exec          # the mutants as real processes (ptpcert iut --mutant)
     python benchmarks/kill_matrix.py --independent   # the independent implementation's broken variants
     python benchmarks/kill_matrix.py --procedure RK512 [--exec]   # the RK 512 variants
+    python benchmarks/kill_matrix.py --procedure ASCII [--exec | --independent]   # the ASCII driver's
 
 Each variant runs with the profile its broken rule needs (e.g. priority high for a priority
 bug), at the shortest legal timers.
@@ -57,9 +58,39 @@ def rk512_variants(args):
         yield name, m.rule, url, profile_from_dict(raw)
 
 
+def ascii_variants(args):
+    """The ASCII variants, each with the profile settings its broken rule needs (its
+    slow_reader and send_job setups included); over exec: a CDT of 50 ms in the CDT criterion,
+    so that a loaded machine does not cut its own frames. --independent: the independent
+    station's variants (tests/independent/ascii), through the issue's interface only."""
+    from ptpcert.mutants_ascii import MUTANTS as ASCII_MUTANTS
+    from ptpcert.procedures.ascii import iut_command, reference_profile as ascii_profile
+
+    if args.independent:
+        from test_ascii_independent import BROKEN, command, profile_text
+        from ptpcert.profile import load_profile
+        import tempfile
+
+        for name, (settings, _select) in BROKEN.items():
+            path = Path(tempfile.mkdtemp()) / "p.toml"
+            path.write_text(profile_text(settings))
+            yield name, "independent variant", f"exec:{command(settings, name)}", load_profile(path)
+        return
+    for name, m in ASCII_MUTANTS.items():
+        settings = dict(m.profile)
+        if args.exec and settings.get("end_criterion") == "cdt":
+            settings.setdefault("character_delay_ms", 50)
+        prof = ascii_profile(**settings)
+        url = f"exec:{iut_command(prof.params, mutant=name)}" if args.exec else f"sim:?mutant={name}"
+        yield name, m.rule, url, prof
+
+
 def variants(args):
     if args.procedure == "RK512":
         yield from rk512_variants(args)
+        return
+    if args.procedure == "ASCII":
+        yield from ascii_variants(args)
         return
     if args.independent:
         names = subprocess.run([PY, str(INDEPENDENT), "--list-breaks"], capture_output=True, text=True).stdout.split("\n")
@@ -86,7 +117,7 @@ def main() -> None:
     ap.add_argument("--exec", action="store_true", help="run the mutants as real processes over exec:")
     ap.add_argument("--independent", action="store_true", help="the independent implementation's variants")
     ap.add_argument("--only", nargs="*", help="only these variant names")
-    ap.add_argument("--procedure", choices=["3964R", "RK512"], default="3964R",
+    ap.add_argument("--procedure", choices=["3964R", "RK512", "ASCII"], default="3964R",
                     help="the procedure whose variants run (default 3964R)")
     args = ap.parse_args()
     t0 = time.monotonic()

@@ -68,10 +68,13 @@ def drive_station(host, ep: Endpoint, *, stop: Callable[[], bool] | None = None,
             # input read in a batch is taken as it came: the deadlines before each input
             # first, and the application runs in between (it must not find a buffer full
             # that it would have emptied, or a frame not yet ended that had ended)
+            prev = None
             while True:
                 d = st.next_deadline()
-                if d is None or d >= t:
+                # (a deadline that stays is a character to send: the loop above writes it)
+                if d is None or d >= t or d == prev:
                     break
+                prev = d
                 st.handle_timer(max(d, st.now))
                 _drain(host, on_event)
             st.line_event(t, kind, value)

@@ -143,11 +143,17 @@ class AsciiCoSim:
                 if d is None or d > until + _EPS:
                     return
                 partner.handle_timer(max(d, partner.now))
+                # what the partner sends (its XON/XOFF) is not part of the expectation; taken
+                # off the line, or its pending output would be a deadline for ever
+                partner.pop_output(max(d, partner.now))
                 got.extend(e.payload for e in host.drain() if isinstance(e, Delivered))
+                if partner.next_deadline() == d:
+                    return    # nothing moves any more at this instant
 
         for t, b in self.out:
             run(t - _EPS)
             partner.line_event(max(t, partner.now), "byte", b)
+            partner.pop_output(partner.now)
             got.extend(e.payload for e in host.drain() if isinstance(e, Delivered))
         run(self.out[-1][0] + 10 * self.p.cdt + 1.0)
         partner.pop_output()
