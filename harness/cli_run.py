@@ -297,11 +297,11 @@ def cmd_run(args) -> int:
         else:
             print(rep.summary(result))
         for kind in ("junit", "json", "html", "pcap"):
-            if getattr(args, kind) and kind in written:
+            if getattr(args, kind, None) and kind in written:
                 print(f"{kind}: {getattr(args, kind)}")
         sys.stdout.flush()
         if (startup_failure or fault or result.interrupted or interrupts.count
-                or len(written) < sum(bool(getattr(args, k)) for k in ("junit", "json", "html", "pcap"))):
+                or len(written) < sum(bool(getattr(args, k, None)) for k in ("junit", "json", "html", "pcap"))):
             return 2
     if result.counts()[R.ERROR] and result.exit_status() == 0:
         return 2
