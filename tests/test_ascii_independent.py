@@ -83,6 +83,7 @@ CORRECT = {
 
 
 @pytest.mark.realtime
+@pytest.mark.long
 @pytest.mark.parametrize("name", sorted(CORRECT))
 def test_independent_correct_station_passes_the_suite(tmp_path, name):
     settings, scheme = CORRECT[name]
@@ -128,6 +129,7 @@ def test_every_independent_variant_has_a_profile():
 
 
 @pytest.mark.realtime
+@pytest.mark.long
 @pytest.mark.parametrize("variant", sorted(BROKEN))
 def test_independent_broken_station_fails(tmp_path, variant):
     settings, select = BROKEN[variant]

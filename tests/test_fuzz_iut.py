@@ -54,7 +54,8 @@ def test_unbroken_model_yields_nothing(tmp_path):
 
 
 @pytest.mark.realtime
-@pytest.mark.parametrize("mutant", ["bcc-not-checked", "setup-attempts-plus-one", "no-quiet-before-nak"])
+@pytest.mark.parametrize("mutant", ["bcc-not-checked"] + [pytest.param(m, marks=pytest.mark.long)
+                                                            for m in ("setup-attempts-plus-one", "no-quiet-before-nak")])
 def test_broken_variant_yields_a_shrunk_finding_saved_as_a_vector(tmp_path, mutant):
     p = fuzz("--iut", f"sim:?mutant={mutant}", "--profile", str(PROFILE), "--budget", "12", "--seed", "3",
              "--export", str(tmp_path))

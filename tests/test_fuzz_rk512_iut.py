@@ -57,7 +57,7 @@ def fuzz(*args, timeout=300):
 
 
 @pytest.mark.realtime
-@pytest.mark.parametrize("mutant", ["counter-letter-c", "send-response-with-data"])
+@pytest.mark.parametrize("mutant", ["send-response-with-data", pytest.param("counter-letter-c", marks=pytest.mark.long)])
 def test_a_broken_variant_yields_a_finding_saved_as_a_vector(tmp_path, mutant):
     raw = rk_profile_dict(**SMALL)
     prof_file = write_profile(tmp_path / "p.toml", raw)

@@ -302,6 +302,7 @@ def _broken_link(tmp: Path):
 
 
 @pytest.mark.realtime
+@pytest.mark.long
 def test_the_monitor_reports_a_broken_station_while_the_exchange_happens(tmp_path):
     line, rc, seen, running = attempts(_broken_link(tmp_path))
     out = "\n".join(t for _, t in line.lines)

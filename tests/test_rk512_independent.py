@@ -46,6 +46,7 @@ def _judge(results):
 
 
 @pytest.mark.realtime
+@pytest.mark.long
 def test_the_whole_suite_passes_the_real_time_reference(tmp_path):
     """Done when: the suite passes the reference IUT over exec: and pty:, in both roles and
     at both priorities, and over 3964 as the link."""
@@ -57,6 +58,7 @@ def test_the_whole_suite_passes_the_real_time_reference(tmp_path):
 
 
 @pytest.mark.realtime
+@pytest.mark.long
 def test_the_whole_suite_passes_the_independent_station(tmp_path):
     """Done when: an implementation written independently from the manual, driven through
     exactly the interface of an RK 512 IUT, passes; cases that hinge on an open point where it
@@ -94,6 +96,7 @@ def test_every_independent_variant_has_a_catching_case():
 
 
 @pytest.mark.realtime
+@pytest.mark.long
 @pytest.mark.parametrize("variant", sorted(CAUGHT_BY))
 def test_the_independent_stations_broken_variants_are_caught(tmp_path, variant):
     raw = rk_profile_dict(**REALTIME)

@@ -107,8 +107,10 @@ def reference_iut(profile, scheme="exec", mutant=None):
     return f"exec:{cmd}" if scheme == "exec" else f"pty:{cmd} --port {{port}}"
 
 
-@pytest.mark.parametrize("proc,prio,scheme", [("3964R", "low", "exec"), ("3964R", "low", "pty"),
-                                               ("3964R", "high", "exec"), ("3964", "low", "exec"),
+@pytest.mark.parametrize("proc,prio,scheme", [("3964R", "low", "exec"),
+                                               pytest.param("3964R", "low", "pty", marks=pytest.mark.long),
+                                               pytest.param("3964R", "high", "exec", marks=pytest.mark.long),
+                                               pytest.param("3964", "low", "exec", marks=pytest.mark.long),
                                                ("3964", "high", "pty")])
 @pytest.mark.realtime
 def test_full_suite_passes_the_real_time_reference(tmp_path, proc, prio, scheme):
@@ -123,8 +125,9 @@ def test_full_suite_passes_the_real_time_reference(tmp_path, proc, prio, scheme)
                for c in data["cases"])
 
 
-@pytest.mark.parametrize("mutant", ["cdt-half", "adt-half", "parity-error-nak-at-once", "high-priority-yields",
-                                    "idle-nak-without-quiet-wait", "retry-after-break"])
+@pytest.mark.parametrize("mutant", ["cdt-half", "adt-half"] + [
+    pytest.param(m, marks=pytest.mark.long) for m in ("parity-error-nak-at-once", "high-priority-yields",
+                                                      "idle-nak-without-quiet-wait", "retry-after-break")])
 @pytest.mark.realtime
 def test_real_time_mutants_are_caught(tmp_path, mutant):
     prof = reference_profile(**MUTANTS[mutant].profile)
@@ -158,6 +161,7 @@ def test_independent_correct_implementation_passes_the_suite(tmp_path):
 
 
 @pytest.mark.realtime
+@pytest.mark.long
 @pytest.mark.parametrize("variant", independent_variants())
 def test_independent_broken_implementations_fail(tmp_path, variant):
     prof = reference_profile(priority="high" if "prio" in variant else "low")

@@ -297,5 +297,11 @@ def test_a_tester_reply_stalled_past_the_iuts_adt_is_a_harness_error_not_a_fail(
 def test_a_defect_fails_when_the_harness_keeps_its_timing_and_is_an_error_when_it_stalled():
     res = run_stalled("3964R.FIG2-6.RECEIVE", stalling_factory(10 ** 6, 0.0, mutant="no-dle-undoubling"))
     assert res.verdict == "fail" and "31 10 10 32 15 03" in res.message, res.message
+    # a stall shorter than the IUT's shortest timer (20 ms): the stalled timeline is tried,
+    # does not explain wrong data, so the defect stands
     res = run_stalled("3964R.FIG2-6.RECEIVE", stalling_factory(4, 0.010, mutant="no-dle-undoubling"))
+    assert res.verdict == "fail" and "31 10 10 32 15 03" in res.message, res.message
+    assert any("stalled" in n for n in res.notes), res.notes
+    # a stall as long as that timer: the IUT process may have missed a whole timer window
+    res = run_stalled("3964R.FIG2-6.RECEIVE", stalling_factory(4, 0.025, mutant="no-dle-undoubling"))
     assert res.verdict == "error" and "stalled" in res.message, res.message
