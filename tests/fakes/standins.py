@@ -12,6 +12,7 @@ from ptpcert.model import table as T
 from ptpcert.model.codec import MAX_BLOCK
 from ptpcert.transport import Factory
 from ptpcert.transport.sim import SimTransport
+from ptpcert.mutants import _Counting  # counts the data bytes and doubled DLEs of the block received
 
 
 def factory(station_class, *, app: str = "echo", host_class=Host, buffer_free: bool = True) -> Factory:
@@ -28,30 +29,6 @@ def factory(station_class, *, app: str = "echo", host_class=Host, buffer_free: b
         return SimTransport(params, host_factory, url=f"sim:{station_class.__name__}",
                             char_time=params.char_time, tester_char=tester.char_time)
     return Factory(make, SimTransport.capabilities, virtual=True)
-
-
-class _Counting(Station3964):
-    """Counts the data bytes and doubled DLEs of the block being received."""
-
-    def _a_begin_reception(self, v):
-        super()._a_begin_reception(v)
-        self.count = self.pairs = 0
-
-    def _a_repetition_begins(self, v):
-        super()._a_repetition_begins(v)
-        self.count = self.pairs = 0
-
-    def _store(self, b, in_bcc=True):
-        super()._store(b, in_bcc)
-        self.count = getattr(self, "count", 0) + 1
-
-    def _store_run(self, run):
-        super()._store_run(run)
-        self.count = getattr(self, "count", 0) + len(run)
-
-    def _a_store_doubled_dle(self, v):
-        super()._a_store_doubled_dle(v)
-        self.pairs = getattr(self, "pairs", 0) + 1
 
 
 class CountsAfterDoubling(_Counting):
