@@ -245,8 +245,11 @@ def test_the_suite_runs_over_rfc2217_with_break_cases(tmp_path):
     by = {c["id"]: c for c in cases}
     breaks = [c for c in cases if any(s["kind"] == "break" for s in c["steps"])
               and not any(s["kind"] == "send_error" for s in c["steps"])]
-    assert len(breaks) >= 6 and all(c["verdict"] == "pass" for c in breaks), \
-        [(c["id"], c["verdict"], c["message"]) for c in breaks]
+    # a case that needs the IUT started with a setup is unsupported where the transport does
+    # not start the IUT (a port server); every other BREAK case passes
+    assert len(breaks) >= 6 and all(c["verdict"] == "pass" or (c["verdict"] == "unsupported" and "setup" in c["message"])
+                                    for c in breaks), \
+        [(c["id"], c["verdict"], c["message"]) for c in breaks if c["verdict"] != "pass"]
     assert by["3964R.D21.BREAK-DURING-RECEPTION"]["verdict"] == "pass"
     allowed = ("character errors", "parity/framing errors", "see the IUT start up",
                "this transport does not start the IUT", "the vector is for")
