@@ -258,7 +258,7 @@ def test_the_suite_runs_over_rfc2217_with_break_cases(tmp_path):
             assert any(a in c["message"] for a in allowed), (c["id"], c["message"])
     assert sum(c["verdict"] == "pass" for c in cases) >= 88
     # each BREAK went through the server as a line condition and the IUT reported it
-    attempts = sum(c["attempts"] for c in breaks)
+    attempts = sum(c["attempts"] for c in breaks if c["verdict"] == "pass")   # an unsupported case sent none
     assert events.count("BREAK on") >= attempts and events.count("STATUS 16#080D") >= attempts
 
 
