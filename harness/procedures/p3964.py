@@ -19,6 +19,24 @@ _REQUIRED = ("priority", "character_delay_ms", "acknowledgement_delay_ms", "setu
              "transmission_attempts")
 LINE_DEFAULTS = {"baud_rate": 9600, "data_bits": 8, "parity": "even", "stop_bits": 1}
 _CHOICES = {"priority": ("low", "high"), "parity": ("none", "odd", "even")}
+
+
+def link_values(iut: dict[str, Any]) -> dict[str, Any]:
+    """The profile's [iut] keys of the 3964(R) link, checked (each missing or refused key
+    named with what is allowed) and completed with the line's defaults."""
+    for key in _REQUIRED:
+        if key not in iut:
+            hint = f"one of {', '.join(_CHOICES[key])}" if key in _CHOICES else "required"
+            raise ProcedureError(f"iut.{key}", f"missing ({hint})")
+    values = {**LINE_DEFAULTS, **iut}
+    for key, choices in _CHOICES.items():
+        if values[key] not in choices:
+            raise ProcedureError(f"iut.{key}", f"{values[key]!r} is not allowed; allowed values: "
+                                 + ", ".join(f'"{c}"' for c in choices))
+    if values["baud_rate"] not in BAUD_RATES:
+        raise ProcedureError("iut.baud_rate", f"{values['baud_rate']!r} is not allowed; allowed values: "
+                             + ", ".join(map(str, BAUD_RATES)))
+    return values
 _KEY_OF = {v: k for k, v in _KEYS.items()}
 
 GROUPS = ("start-up", "character-frame", "idle", "receive", "send", "release", "repetition", "conflict",
@@ -54,18 +72,7 @@ class P3964(Procedure):
         return tuple(_KEYS)
 
     def params_from_profile(self, iut: dict[str, Any], tables: dict[str, dict[str, Any]]) -> Params3964:
-        for key in _REQUIRED:
-            if key not in iut:
-                hint = f"one of {', '.join(_CHOICES[key])}" if key in _CHOICES else "required"
-                raise ProcedureError(f"iut.{key}", f"missing ({hint})")
-        values = {**LINE_DEFAULTS, **iut}
-        for key, choices in _CHOICES.items():
-            if values[key] not in choices:
-                raise ProcedureError(f"iut.{key}", f"{values[key]!r} is not allowed; allowed values: "
-                                     + ", ".join(f'"{c}"' for c in choices))
-        if values["baud_rate"] not in BAUD_RATES:
-            raise ProcedureError("iut.baud_rate", f"{values['baud_rate']!r} is not allowed; allowed values: "
-                                 + ", ".join(map(str, BAUD_RATES)))
+        values = link_values(iut)
         try:
             return Params3964(procedure=values["procedure"], **{_KEYS[k]: values[k] for k in _KEYS})
         except ParameterError as exc:

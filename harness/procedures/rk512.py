@@ -32,9 +32,9 @@ from dataclasses import fields
 from typing import Any, Mapping
 
 from ..model import Params3964, codec
-from ..model.params import BAUD_RATES, T_BLOCK, T_NAKTIM, ParameterError
+from ..model.params import T_BLOCK, T_NAKTIM, ParameterError
 from ..procedure import Mutant, Procedure, ProcedureError
-from .p3964 import _CHOICES, _KEYS, _REQUIRED, LINE_DEFAULTS
+from .p3964 import _KEYS, link_values
 
 # The RK 512 model is imported where it is used, so that a 3964 IUT process (ptpcert iut)
 # does not load it at its start.
@@ -138,18 +138,7 @@ class Rk512(Procedure):
 
     def params_from_profile(self, iut: dict[str, Any], tables: dict[str, dict[str, Any]]):
         from ..model.rk512 import Rk512Params
-        for key in _REQUIRED:
-            if key not in iut:
-                hint = f"one of {', '.join(_CHOICES[key])}" if key in _CHOICES else "required"
-                raise ProcedureError(f"iut.{key}", f"missing ({hint})")
-        values = {**LINE_DEFAULTS, **iut}
-        for key, choices in _CHOICES.items():
-            if values[key] not in choices:
-                raise ProcedureError(f"iut.{key}", f"{values[key]!r} is not allowed; allowed values: "
-                                     + ", ".join(f'"{c}"' for c in choices))
-        if values["baud_rate"] not in BAUD_RATES:
-            raise ProcedureError("iut.baud_rate", f"{values['baud_rate']!r} is not allowed; allowed values: "
-                                 + ", ".join(map(str, BAUD_RATES)))
+        values = link_values(iut)
         table = dict(tables.get("rk512", {}))
         link = table.get("link", "3964R")
         if link not in ("3964R", "3964"):
