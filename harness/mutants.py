@@ -351,15 +351,22 @@ class _(Station3964):
 
 
 # SUITE.SEND.SETUP-ATTEMPTS-MIXED
-@mutant("setup-counter-per-cause", "Fig. 2-10 'X+1': each kind of failed setup (NAK, timeout, character error) has a counter of its own")
-class _(Station3964):
+class _PerCause(Station3964):
+    """A job's attempt counter (``counter``: the job's ``x`` or ``w``) kept per kind of failure."""
+    counter = "x"
+
     def _a_start_job(self, v):
         super()._a_start_job(v)
         self.causes = {}
 
     def count_cause(self, cause):
         self.causes[cause] = self.causes.get(cause, 0) + 1
-        self.job.x = 1 + max(self.causes.values())
+        setattr(self.job, self.counter, 1 + max(self.causes.values()))
+
+
+@mutant("setup-counter-per-cause", "Fig. 2-10 'X+1': each kind of failed setup (NAK, timeout, character error) has a counter of its own")
+class _(_PerCause):
+    counter = "x"
 
     def _a_setup_refused(self, v):
         super()._a_setup_refused(v)
@@ -377,14 +384,8 @@ class _(Station3964):
 # SUITE.RELEASE.ATTEMPTS-MIXED
 @mutant("transmission-counter-per-cause",
         "Table 2-4 transmission attempts; Fig. 2-10 'W+1': each kind of failed attempt has a counter of its own")
-class _(Station3964):
-    def _a_start_job(self, v):
-        super()._a_start_job(v)
-        self.causes = {}
-
-    def count_cause(self, cause):
-        self.causes[cause] = self.causes.get(cause, 0) + 1
-        self.job.w = 1 + max(self.causes.values())
+class _(_PerCause):
+    counter = "w"
 
     def _a_send_refused(self, v):
         super()._a_send_refused(v)
