@@ -114,6 +114,9 @@ class Variant:
     description: str
     readings: Any = None
     shift: float = 0.0
+    #: the local events the seat's bytes reveal (a send job, a free buffer) happened up to
+    #: this much earlier than the bytes' timestamps say (within the capture's resolution)
+    lead: float = 0.0
 
 
 class ProcedureAnalyzer:
@@ -252,6 +255,11 @@ class Finding:
     readings: tuple[str, ...] = ()
     notes: list[str] = field(default_factory=list)
     rules: tuple[str, ...] = ()       # ids of the rules broken, from the procedure's catalogue
+    #: the difference does not depend on the order in which the model took the two seats'
+    #: characters: a wrong byte inside a transmission the partner kept silent through, up to
+    #: and including the read that returned the byte (a monitor reads every port that has
+    #: characters waiting, so a partner's character stamped later came later)
+    order_free: bool = False
 
     def text(self, seats: dict[str, str] | None = None) -> str:
         who = f"seat {self.seat}" + (f" ({seats[self.seat]})" if seats and seats.get(self.seat) not in (None, self.seat) else "")
@@ -293,6 +301,7 @@ class SeatRun:
         self.start_pos = (i_in, i_obs)
         self.variant = variant
         self.shift = variant.shift if variant is not None else 0.0
+        self.lead = variant.lead if variant is not None else 0.0
         #: the shift applies to the other seat's characters up to here (the difference an
         #: alternative is to explain); later ones keep their times
         self.shift_until = inf
@@ -392,6 +401,8 @@ class SeatRun:
                 stage = self.stage
                 if stage == 0:
                     t_ob = o.start - QUANTUM
+                    if self.lead and o.t <= until_shift:
+                        t_ob -= self.lead
                 elif stage == 1:
                     t_ob = o.start + QUANTUM
                     if self._tied + _EPS > t_ob:
@@ -410,7 +421,7 @@ class SeatRun:
             if t_ob == t and stage == 0:
                 # a local event the seat's byte reveals goes before the inputs of its instant
                 # (two stations whose STXs cross both decided to send before hearing the other)
-                if st.transmitting and t_dl <= o.start + QUANTUM:
+                if st.transmitting and t_dl <= o.start + QUANTUM and not (self.lead and t < o.start - QUANTUM):
                     self.stage, self._tied = 1, -inf   # the model is about to send a byte: compare
                     continue
                 idx = self.i_obs
@@ -606,8 +617,15 @@ class SeatRun:
             self.i_obs += 1
             self.stage = 0
             self._snapshot = None
-            if d > 1e-7:
-                self.st.delay_output(d)   # follow the seat: what it sends next starts later too
+            # follow the seat: what it sends next starts later too - but only by as much as
+            # the byte was certainly late. Its timestamp may lag its completion by up to the
+            # resolution, so it may have been that much earlier; a model that followed the
+            # stamp would run behind the seat, and the other seat's answer to the seat's last
+            # byte would reach it "during" a byte it had long finished (a monitor that read a
+            # block's tail in one go stamps it late).
+            follow = d - r
+            if follow > 1e-7:
+                self.st.delay_output(follow)
             return False
         if o is None and hi > j.analysis.known_until:
             return WAIT
@@ -640,7 +658,8 @@ class SeatRun:
                 j.seat, o.t, R.FAIL, "wrong", cause.rule, cause.reference,
                 f"sent {self._show(o)} where the model sends {name}: {cause.rule} ({cause.reference})",
                 expected=f"{name} at {self._at(p)}", observed=f"{self._show(o)} at {self._at(o.t)}",
-                window=(lo, hi), codes=codes, rules=cause.rules)
+                window=(lo, hi), codes=codes, rules=cause.rules,
+                order_free=k > 0 and entry is not None and not self._partner_between(entry[0], o.t))
             return True
         if o.t < lo:
             self.failed = Finding(
@@ -650,6 +669,12 @@ class SeatRun:
                 window=(lo, hi), codes=codes, rules=cause.rules)
             return True
         raise AssertionError("unreachable")   # pragma: no cover
+
+    def _partner_between(self, lo: float, hi: float) -> bool:
+        """Did the other seat send anything stamped after ``lo`` and by ``hi``?"""
+        inputs = self.judge.inputs
+        i = bisect.bisect_right(inputs, lo, key=lambda it: it.t)
+        return i < len(inputs) and inputs[i].t <= hi
 
     def _timing(self, cause: Cause, name: str, p: float, o: Item, d: float, lo: float, hi: float) -> None:
         """In its window only because of the capture's timing resolution: informational. (A
@@ -731,6 +756,10 @@ class SeatJudge:
         #: chunks before this index are settled: their flags are final (or unknown)
         self.settled = 0
         self.lost_at: float | None = -inf      # not following: since when (-inf: not started)
+        #: the chunk where the seat was last followed again: a run begun there that departs
+        #: again is not begun there once more (the next resumption is in a later chunk), so
+        #: the judge always moves on, whatever the timestamps of the chunk's bytes
+        self.resumed_in = -1
         self.resets_done = 0
         #: the model has been seen at rest after taking part in the line (or began where the
         #: line was quiet, or at a case mark): its findings are not the recording's start
@@ -760,10 +789,10 @@ class SeatJudge:
         k_obs = self.obs[run.i_obs].chunk if run.i_obs < len(self.obs) else n
         self.settled = max(self.settled, min(k_in, k_obs))
 
-    def _emit(self, f: Finding) -> None:
+    def _emit(self, f: Finding, since: float | None = None) -> None:
         if self.seat not in self.analysis.judged:
             return
-        f = self.analysis.graded(f, self.anchored)
+        f = self.analysis.graded(f, self.anchored, since)
         self.findings.append(f)
         self.analysis.found(f)
 
@@ -846,19 +875,26 @@ class SeatJudge:
     def _resume(self, until: float) -> bool:
         """Not following the seat: start again where the line has been quiet long enough."""
         a = self.analysis
-        found = a.resync_chunk(self.lost_at)
-        if found is None:
-            return False
-        k, j = found
-        seat_k = a.chunks[k].seat
-        first = a._chunk_items[k][0] + j
-        start = a.items[seat_k][first].start
+        while True:
+            found = a.resync_chunk(self.lost_at, after=self.resumed_in)
+            if found is None:
+                return False
+            k, j = found
+            seat_k = a.chunks[k].seat
+            first = a._chunk_items[k][0] + j
+            start = a.items[seat_k][first].start
+            if self.lost_at is None or self.lost_at == -inf or a.items[seat_k][first].t > self.lost_at:
+                break
+            # a chunk read after the difference whose bytes, stamped back from its read, began
+            # before it: the exchange that departed, not a new one
+            self.resumed_in = k
         t0 = start - 2 * self.kit.char(self.seat) - 1e-6
         prev = a.items[seat_k][first - 1].t if j else (a.chunks[k - 1].t if k > 0 else -inf)
         t0 = max(t0, prev + _EPS)
         if t0 > until:
             return False
         self.settled = max(self.settled, k + (1 if j else 0))
+        self.resumed_in = k
         i_in = a.index_of_chunk(self.inputs, k) + (j if seat_k != self.seat else 0)
         i_obs = a.index_of_chunk(self.obs, k) + (j if seat_k == self.seat else 0)
         self.run = SeatRun(self, self.kit.fresh(self.seat, t0), t0, i_in, i_obs)
@@ -898,7 +934,7 @@ class SeatJudge:
             return True
         # the difference stands
         self._take(run)
-        self._emit(run.failed)
+        self._emit(run.failed, since=run.rest[0])
         self.failing, self.candidates, self.run = None, [], None
         self.lost_at = run.failed.t
         return True
@@ -972,6 +1008,9 @@ class LineAnalysis:
         self.resets: list[tuple[float, str, int, frozenset]] = []
         self._reset_chunks: list[int] = []
         self.gaps: list[tuple[float, str, str]] = []    # (t, seat, condition)
+        #: the times of reads that returned both seats' characters at once (consecutive chunks
+        #: of both seats with one timestamp): the order of those characters is not known
+        self.shared_reads: list[float] = []
         self.notes: list[tuple[float, str, str]] = []   # (t, seat, text)
         self.end: float | None = None
         self.complete = False
@@ -997,6 +1036,10 @@ class LineAnalysis:
         prev_k = k - 1
         while prev_k >= 0 and not self._chunk_items[prev_k][1]:
             prev_k -= 1
+        if (self.resolution > 0 and chunk.data and self.chunks and self.chunks[-1].t == chunk.t
+                and self.chunks[-1].seat != chunk.seat and self.chunks[-1].data
+                and (not self.shared_reads or self.shared_reads[-1] != chunk.t)):
+            self.shared_reads.append(chunk.t)
         self.chunks.append(chunk)
         self.known_until = max(self.known_until, chunk.t)
         seat = chunk.seat
@@ -1076,15 +1119,15 @@ class LineAnalysis:
         p = self._last_with_items[item.chunk]
         return inf if p < 0 else item.start - self.chunks[p].t
 
-    def resync_chunk(self, since: float | None) -> tuple[int, int] | None:
-        """Where to follow a seat again after ``since``: the first chunk that follows a quiet
-        line (or begins the capture), or where the procedure sees an exchange begin with both
-        stations at rest. (chunk, index of the item in it)."""
+    def resync_chunk(self, since: float | None, after: int = -1) -> tuple[int, int] | None:
+        """Where to follow a seat again after ``since`` (and in a chunk after ``after``): the
+        first chunk that follows a quiet line (or begins the capture), or where the procedure
+        sees an exchange begin with both stations at rest. (chunk, index of the item in it)."""
         if since is None or since == inf:
             return None
         # a chunk's answer depends only on it and the chunks before it: a search that found
         # nothing goes on from where it stopped (a busy line is not scanned anew at every step)
-        start = max(self._first_after(since), self._resync_from.get(since, 0))
+        start = max(self._first_after(since), self._resync_from.get(since, 0), after + 1)
         for k in range(start, len(self.chunks)):
             if not self._chunk_items[k][1]:
                 continue
@@ -1155,22 +1198,70 @@ class LineAnalysis:
         self._segment(inf, final=True)
 
     # -- findings -------------------------------------------------------------------------
-    def graded(self, f: Finding, anchored: bool = True) -> Finding:
+    def graded(self, f: Finding, anchored: bool = True, since: float | None = None) -> Finding:
         """A finding that the recording itself may explain is informational: near a place
         where it lost data, or before the seat's model was first seen at rest after the
         recording began (it may have begun inside an exchange, which the model joined at rest)."""
         if f.grade != R.FAIL:
             return f
-        near = [g for g in self.gaps if abs(g[0] - f.t) <= self.rest]
+        near = self._gaps_near(f.t, since)
+        shared = None if f.order_free else self._shared_read_near(f.t, since)
         if near:
             f.grade = R.INFORMATIONAL
             f.notes.append(f"the recording lost data {1000 * (near[0][0] - f.t):+.3f} ms from here "
                            f"({near[0][2]} on seat {near[0][1]}'s line): the model may have missed a character")
+        elif shared is not None:
+            f.grade = R.INFORMATIONAL
+            f.notes.append(f"both stations' characters were read at once {1000 * (shared - f.t):+.3f} ms from here: "
+                           f"their order within the timing resolution ({1000 * self.resolution:.3f} ms) is not "
+                           "known, and the model may have taken them in the wrong one")
         elif not anchored:
             f.grade = R.INFORMATIONAL
             f.notes.append("the model had not yet been seen at rest since the recording began: the recording may "
                            "have begun inside an exchange, which the model joined at rest")
         return f
+
+    def _gaps_near(self, t: float, since: float | None) -> list[tuple[float, str, str]]:
+        """Places where the recording lost data that may explain a difference at ``t``. Without
+        the model's last rest point (``since``): any within the longest timer. With it: one
+        since then (what the model took in around it, it carried on with), or one a little
+        later whose late characters, stamped back from their read, reach back to ``t``."""
+        if since is None:
+            return [g for g in self.gaps if abs(g[0] - t) <= self.rest]
+        span = self.resolution + 2 * max(self.kit.char(s) for s in SEATS)
+        out = []
+        for g in self.gaps:
+            if g[0] <= t:
+                if g[0] > since or g[0] >= t - span:
+                    out.append(g)
+            elif self._gap_reach(g[0]) - span <= t:
+                out.append(g)
+        return out
+
+    def _gap_reach(self, g: float) -> float:
+        """How far back the characters read at a place where data was lost are stamped."""
+        k = self._first_after(g - 1e-9)
+        reach = g
+        while k < len(self.chunks) and self.chunks[k].t <= g + 1e-9:
+            first, n = self._chunk_items[k]
+            if n:
+                reach = min(reach, self.items[self.chunks[k].seat][first].start)
+            k += 1
+        return reach
+
+    def _shared_read_near(self, t: float, since: float | None = None) -> float | None:
+        """A read that returned both seats' characters at once where their unknown order may
+        have misled the model that departed from the seat at ``t``: since the model was last
+        at rest (``since``; from there on it carried what it took in), or within the timing
+        resolution and two character times of ``t``."""
+        reads = self.shared_reads
+        if not reads:
+            return None
+        span = self.resolution + 2 * max(self.kit.char(s) for s in SEATS)
+        # a read before the rest point was taken in before the model rested: settled
+        lo = t - span if since is None else min(t - span, since)
+        i = bisect.bisect_right(reads, lo)
+        return reads[i] if i < len(reads) and reads[i] <= t + span else None
 
     def found(self, f: Finding) -> None:
         if self.listener is not None and hasattr(self.listener, "finding"):

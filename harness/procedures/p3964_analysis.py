@@ -485,6 +485,9 @@ class Analyzer3964(ProcedureAnalyzer):
                                              "(within the timing resolution)", shift=-resolution))
             out.append(Variant("resolution", f"with the other seat's characters {1000 * resolution:.3f} ms later "
                                              "(within the timing resolution)", shift=resolution))
+            out.append(Variant("resolution", f"with the seat's own send jobs and free buffers up to "
+                                             f"{1000 * resolution:.3f} ms before its characters show them "
+                                             "(within the timing resolution)", lead=resolution))
         if self._variants is None:
             kit = self.procedure.fuzz_kit()
             self._variants = [
