@@ -214,6 +214,12 @@ class ProcedureAnalyzer:
         input, if anything: (completion, byte, cause)."""
         raise NotImplementedError
 
+    def wrong(self, run: "SeatRun", item: "Item", byte: int, cause: Cause) -> Cause:
+        """The rule broken by sending ``item`` where the model sends ``byte`` for ``cause``:
+        ``cause`` itself unless the item breaks a rule of its own (e.g. a value no character
+        of the seat's frame carries)."""
+        return cause
+
     def name(self, byte: int) -> str:
         return f"{byte:02X}"
 
@@ -636,6 +642,8 @@ class SeatRun:
                 expected=f"{name} at {self._at(p)}", observed=got, window=(lo, hi), codes=codes, rules=cause.rules)
             return True
         if o.kind != "byte" or o.value != b:
+            cause = self.kit.wrong(self, o, b, cause)
+            codes = (cause.code,) if cause.code else ()
             self.failed = Finding(
                 j.seat, o.t, R.FAIL, "wrong", cause.rule, cause.reference,
                 f"sent {self._show(o)} where the model sends {name}: {cause.rule} ({cause.reference})",
