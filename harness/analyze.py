@@ -114,6 +114,9 @@ class Variant:
     description: str
     readings: Any = None
     shift: float = 0.0
+    #: what the finding an adopted alternative leaves is called ("reading" or "resolution"
+    #: by default; e.g. "buffer": a local condition of the station the line does not show)
+    kind: str = ""
 
 
 class ProcedureAnalyzer:
@@ -247,7 +250,8 @@ class Finding:
     seat: str
     t: float                          # capture time of the byte concerned (or where it was due)
     grade: str                        # results.FAIL or results.INFORMATIONAL
-    kind: str                         # wrong, missing, early, late, unexpected, start-up, timing, reading, resolution
+    kind: str                         # wrong, missing, early, late, unexpected, start-up, timing, reading, resolution,
+    #                                   buffer (a local condition the line does not show)
     rule: str
     reference: str
     message: str
@@ -914,11 +918,12 @@ class SeatJudge:
     def _adopt(self, failing: SeatRun, cand: SeatRun) -> None:
         f = failing.failed
         v = cand.variant
+        kind = v.kind or ("reading" if v.readings is not None else "resolution")
         cand.findings.insert(0, Finding(
-            self.seat, f.t, R.INFORMATIONAL, "reading" if v.readings is not None else "resolution", f.rule,
+            self.seat, f.t, R.INFORMATIONAL, kind, f.rule,
             f.reference, f"{f.message} - but the model {v.description} follows the seat",
             expected=f.expected, observed=f.observed, window=f.window, codes=f.codes,
-            readings=(v.name,) if v.readings is not None else (), rules=f.rules))
+            readings=(v.name,) if kind == "reading" else (), rules=f.rules))
         self.failing, self.candidates = None, []
         if cand.failed is not None:      # the recording ended: nothing more to follow
             self._take(cand)

@@ -10,7 +10,10 @@ when it happened):
   BCC) differs from the model's;
 * a receive buffer becomes free (Fig. 2-11 "buffer free"): the analysis cannot see the
   application's buffer, so it takes it as busy until the station's DLE shows it free. A DLE
-  any time before T_NAKTIM is conforming; no DLE and no NAK after T_NAKTIM is not;
+  any time before T_NAKTIM is conforming; no DLE and no NAK after T_NAKTIM is not. A buffer
+  seen free may be busy again at a later STX: a station that then answers late, or with NAK
+  after T_NAKTIM, is an informational finding of kind "buffer" (the alternative with a busy
+  buffer follows it), never a failure;
 * a restart (Fig. 2-9): a NAK from a station at rest, on a line that was quiet for longer
   than any timer, is its start-up NAK. A case of ``ptpcert run`` against an IUT it restarts
   (exec:, pty:, sim:) switches the IUT on at the case's start: its first character must be
@@ -116,6 +119,9 @@ _HIGH_KEEPS = ("initialization conflict: the high-priority station does not answ
 _LEN_RULE = ("a send job carries 1 to 1024 bytes: a block without data or longer than 1024 bytes is not "
              "sent (the CP 341 refuses the job with 16#1E41)",
              "Tables 6-2/6-3 LEN; Table A-5; Table 8-2 16#1E41")
+
+_BUFFER_WORDS = ("with its receive buffer not free when the partner's STX came (the application's buffer is "
+                 "not on the line: Fig. 2-11 'buffer not free', DLE once one is free or NAK after T_NAKTIM)")
 
 #: the readings of the open points the alternatives take, in words
 _READING_WORDS = {
@@ -606,7 +612,9 @@ class Analyzer3964(ProcedureAnalyzer):
                                              "(within the timing resolution)", shift=resolution))
         if self._variants is None:
             kit = self.procedure.fuzz_kit()
-            self._variants = [
+            # every alternative starts with its receive buffer busy (see fresh): this one with
+            # nothing else changed says that a busy buffer explains the seat (Fig. 2-11)
+            self._variants = [Variant("buffer", _BUFFER_WORDS, kind="buffer")] + [
                 Variant(name, f"with the other reading of the manual's open point {name} "
                               f"({_READING_WORDS.get(name, 'see ptpcert.model.readings')})",
                         readings=replace(READINGS, **change))
