@@ -319,6 +319,7 @@ BROKEN_RULE_ID = {
     "no-dle-doubling": "3964.TX.DLE-DOUBLING", "bcc-without-end-sequence": "3964.TX.BCC",
     "3964-waits-for-bcc": "3964.RX.ANSWER-AT-ETX", "bcc-character-error-ignored": "3964.RX.BCC-CHARACTER-ERROR",
     "bcc-eighth-bit-set": "3964.FRAME.SEVEN-BIT", "buffer-wait-too-short": "3964.RX.NO-BUFFER",
+    "cdt-half-after-data-dle": "3964.RX.CDT-AFTER-DLE",
     "character-error-after-dle-nak-at-once": "3964.RX.CHARACTER-ERROR-IN-END",
     "corrupted-etx-ends-block": "3964.RX.CHARACTER-ERROR-IN-END", "corrupted-stx-accepted": "3964.IDLE.CORRUPTED-STX",
     "overlong-block-unanswered": "3964.RX.TOO-LONG", "partner-stx-refuses-setup": "3964.CONFLICT.HIGH-WAITS",

@@ -460,6 +460,9 @@ class Analyzer3964(ProcedureAnalyzer):
                          what=name)
         _start, _end, inp, actions = entry
         element = T.rule_for(actions, byte)
+        if element is not None and inp == T.T_CDT and actions[0] == T.Action.CHARACTER_TIMEOUT:
+            # three states share the action: the partner's last characters say which one ran out
+            element = T.TABLE[self._receiving_state(run)][inp]
         if element is not None:
             rule, ref, code = _sentence(element.rule), element.ref, element.code
             ids = tuple(element.rules)
@@ -503,6 +506,26 @@ class Analyzer3964(ProcedureAnalyzer):
         if byte in (DLE, NAK) and any(x in actions for x in _ANSWER_STX + _ANSWER_BLOCK):
             return Cause("reply", rule, ref, 3e-6, q.adt, code, name, ids)   # the partner's T_ADT waits for it
         return Cause("reply", rule, ref, 3e-6, self.late_abs, code, name, ids)
+
+    def _receiving_state(self, run) -> str:
+        """Where a receiver is in the partner's block, from the partner's characters so far:
+        after a data DLE (an odd run of DLEs) waiting for ETX, after DLE ETX (3964R) waiting
+        for the BCC, else receiving data."""
+        inputs, i = run.judge.inputs, run.i_in
+
+        def dles_before(k: int) -> int:
+            n = 0
+            while k - 1 - n >= 0 and inputs[k - 1 - n].kind == "byte" and inputs[k - 1 - n].value == DLE:
+                n += 1
+            return n
+
+        if i and dles_before(i) % 2:
+            return T.WAIT_ETX
+        last = inputs[i - 1] if i else None
+        if (last is not None and last.kind == "byte" and last.value == ETX and dles_before(i - 1) % 2
+                and self.params[run.judge.seat].has_bcc):
+            return T.WAIT_BCC
+        return T.RECEIVE
 
     @staticmethod
     def _noted_code(run, start: float) -> int | None:
