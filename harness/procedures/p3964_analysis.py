@@ -480,7 +480,9 @@ class Analyzer3964(ProcedureAnalyzer):
             if before is not None:
                 # the rule that led there names why this byte: e.g. the BCC with a character
                 # error (its row) before "send NAK" (the decision that sends it)
-                ref, ids = _joined(before.ref, ref), tuple(dict.fromkeys(before.rules + ids))
+                # (its first rule: the others of a row may concern other situations, e.g. T_ADT
+                # of the setup also ends a high-priority station's wait in a conflict)
+                ref, ids = _joined(before.ref, ref), tuple(dict.fromkeys(before.rules[:1] + ids))
                 code = code or before.code
         else:
             rule, ref, code = "the model's behaviour", "§2.2.2; Figs. 2-9 to 2-12", None
