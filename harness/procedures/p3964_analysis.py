@@ -467,7 +467,6 @@ class Analyzer3964(ProcedureAnalyzer):
             rule, ref, code = _sentence(element.rule), element.ref, element.code
             ids = tuple(element.rules)
             before = _leading_to(actions, inp, element)
-            noted = None
             if element in _REFUSALS:
                 noted = self._noted_code(run, _start)
                 if noted is not None:
