@@ -117,6 +117,9 @@ class Variant:
     #: the local events the seat's bytes reveal (a send job, a free buffer) happened up to
     #: this much earlier than the bytes' timestamps say (within the capture's resolution)
     lead: float = 0.0
+    #: what the finding an adopted alternative leaves is called ("reading" or "resolution"
+    #: by default; e.g. "buffer": a local condition of the station the line does not show)
+    kind: str = ""
 
 
 class ProcedureAnalyzer:
@@ -217,6 +220,12 @@ class ProcedureAnalyzer:
         input, if anything: (completion, byte, cause)."""
         raise NotImplementedError
 
+    def wrong(self, run: "SeatRun", item: "Item", byte: int, cause: Cause) -> Cause:
+        """The rule broken by sending ``item`` where the model sends ``byte`` for ``cause``:
+        ``cause`` itself unless the item breaks a rule of its own (e.g. a value no character
+        of the seat's frame carries)."""
+        return cause
+
     def name(self, byte: int) -> str:
         return f"{byte:02X}"
 
@@ -244,7 +253,8 @@ class Finding:
     seat: str
     t: float                          # capture time of the byte concerned (or where it was due)
     grade: str                        # results.FAIL or results.INFORMATIONAL
-    kind: str                         # wrong, missing, early, late, unexpected, start-up, timing, reading, resolution
+    kind: str                         # wrong, missing, early, late, unexpected, start-up, timing, reading, resolution,
+    #                                   buffer (a local condition the line does not show)
     rule: str
     reference: str
     message: str
@@ -654,6 +664,8 @@ class SeatRun:
                 expected=f"{name} at {self._at(p)}", observed=got, window=(lo, hi), codes=codes, rules=cause.rules)
             return True
         if o.kind != "byte" or o.value != b:
+            cause = self.kit.wrong(self, o, b, cause)
+            codes = (cause.code,) if cause.code else ()
             self.failed = Finding(
                 j.seat, o.t, R.FAIL, "wrong", cause.rule, cause.reference,
                 f"sent {self._show(o)} where the model sends {name}: {cause.rule} ({cause.reference})",
@@ -942,11 +954,12 @@ class SeatJudge:
     def _adopt(self, failing: SeatRun, cand: SeatRun) -> None:
         f = failing.failed
         v = cand.variant
+        kind = v.kind or ("reading" if v.readings is not None else "resolution")
         cand.findings.insert(0, Finding(
-            self.seat, f.t, R.INFORMATIONAL, "reading" if v.readings is not None else "resolution", f.rule,
+            self.seat, f.t, R.INFORMATIONAL, kind, f.rule,
             f.reference, f"{f.message} - but the model {v.description} follows the seat",
             expected=f.expected, observed=f.observed, window=f.window, codes=f.codes,
-            readings=(v.name,) if v.readings is not None else (), rules=f.rules))
+            readings=(v.name,) if kind == "reading" else (), rules=f.rules))
         self.failing, self.candidates = None, []
         if cand.failed is not None:      # the recording ended: nothing more to follow
             self._take(cand)

@@ -10,7 +10,10 @@ when it happened):
   BCC) differs from the model's;
 * a receive buffer becomes free (Fig. 2-11 "buffer free"): the analysis cannot see the
   application's buffer, so it takes it as busy until the station's DLE shows it free. A DLE
-  any time before T_NAKTIM is conforming; no DLE and no NAK after T_NAKTIM is not;
+  any time before T_NAKTIM is conforming; no DLE and no NAK after T_NAKTIM is not. A buffer
+  seen free may be busy again at a later STX: a station that then answers late, or with NAK
+  after T_NAKTIM, is an informational finding of kind "buffer" (the alternative with a busy
+  buffer follows it), never a failure;
 * a restart (Fig. 2-9): a NAK from a station at rest, on a line that was quiet for longer
   than any timer, is its start-up NAK. A case of ``ptpcert run`` against an IUT it restarts
   (exec:, pty:, sim:) switches the IUT on at the case's start: its first character must be
@@ -117,6 +120,9 @@ _LEN_RULE = ("a send job carries 1 to 1024 bytes: a block without data or longer
              "sent (the CP 341 refuses the job with 16#1E41)",
              "Tables 6-2/6-3 LEN; Table A-5; Table 8-2 16#1E41")
 
+_BUFFER_WORDS = ("with its receive buffer not free when the partner's STX came (the application's buffer is "
+                 "not on the line: Fig. 2-11 'buffer not free', DLE once one is free or NAK after T_NAKTIM)")
+
 #: the readings of the open points the alternatives take, in words
 _READING_WORDS = {
     "A4": "the setup counter is not reset for a new transmission attempt",
@@ -131,6 +137,47 @@ _READING_WORDS = {
     "A21": "the collided STX of an initialization conflict is not counted",
     "A23": "a high-priority station restarts T_ADT at the partner's STX",
 }
+
+
+#: the catalogue's rule behind the error a receiver's NAK reports (Table 8-1)
+_NOTED_RULES = {Code.FRAME_TOO_LONG: ("3964.RX.TOO-LONG",), Code.BCC_ERROR: ("3964.RX.BCC-CHECK",),
+                Code.CHARACTER_ERROR: ("3964.RX.CHARACTER-ERROR",)}
+
+#: the outcomes of "send NAK" that refuse a received block, and "NAK noted?" leading to them
+_REFUSALS = (T.branch(T.NAK_CHECK, T.WAIT_REPETITION), T.branch(T.NAK_CHECK, T.IDLE))
+_NAK_NOTED = T.branch(T.EVALUATE, T.NAK_CHECK)
+
+#: (action, input) -> the rows of the table with them (several states may share an action)
+_ROWS_OF: dict[tuple[str, str], list] = {}
+for _state, _inp, _row in T.rows():
+    _same = _ROWS_OF.setdefault((_row.action, _inp), [])
+    if not any(r is _row for r in _same):
+        _same.append(_row)
+del _state, _inp, _row, _same
+
+
+def _leading_to(actions: list[str], inp: str, element: Any) -> Any:
+    """The row or decision outcome that led to ``element`` (the outcome of a later decision
+    that sends the byte) in the chain ``actions`` of the input ``inp``: the outcome of the
+    decision before it that leads on, or else the row (when one row of the table has this
+    action and input). None when ``element`` is the row itself or nothing is certain."""
+    chain = list(actions)
+    at = next((i for i, name in enumerate(chain) if name in T.BRANCHES and element in T.BRANCHES[name]), None)
+    if at is None or at == 0:
+        return None
+    if at >= 2:
+        prev = chain[at - 1]
+        return next((b for b in T.BRANCHES[prev] if b.target == chain[at]), None)
+    rows = _ROWS_OF.get((chain[0], inp), [])
+    if len(rows) == 1 and not rows[0].sends and rows[0].ref:
+        return rows[0]
+    return None
+
+
+def _joined(first: str, second: str) -> str:
+    """Two references as one, each part once."""
+    parts = [x.strip() for x in first.split(";") + second.split(";") if x.strip()]
+    return "; ".join(dict.fromkeys(parts))
 
 
 @functools.lru_cache(maxsize=None)
@@ -413,9 +460,29 @@ class Analyzer3964(ProcedureAnalyzer):
                          what=name)
         _start, _end, inp, actions = entry
         element = T.rule_for(actions, byte)
+        if element is not None and inp == T.T_CDT and actions[0] == T.Action.CHARACTER_TIMEOUT:
+            # three states share the action: the partner's last characters say which one ran out
+            element = T.TABLE[self._receiving_state(run)][inp]
         if element is not None:
             rule, ref, code = _sentence(element.rule), element.ref, element.code
             ids = tuple(element.rules)
+            before = _leading_to(actions, inp, element)
+            if element in _REFUSALS:
+                noted = self._noted_code(run, _start)
+                if noted is not None:
+                    # the error the NAK refuses the block for (Fig. 2-12 'note NAK')
+                    ref = _joined(f"Table 8-1 16#{noted:04X}", ref)
+                    ids = tuple(dict.fromkeys(_NOTED_RULES.get(noted, ()) + ids))
+                    code = noted
+                    if before is _NAK_NOTED:
+                        before = None       # the error says more than "NAK noted?"
+            if before is not None:
+                # the rule that led there names why this byte: e.g. the BCC with a character
+                # error (its row) before "send NAK" (the decision that sends it)
+                # (its first rule: the others of a row may concern other situations, e.g. T_ADT
+                # of the setup also ends a high-priority station's wait in a conflict)
+                ref, ids = _joined(before.ref, ref), tuple(dict.fromkeys(before.rules[:1] + ids))
+                code = code or before.code
         else:
             rule, ref, code = "the model's behaviour", "§2.2.2; Figs. 2-9 to 2-12", None
             ids = ()
@@ -441,6 +508,38 @@ class Analyzer3964(ProcedureAnalyzer):
             return Cause("reply", rule, ref, 3e-6, q.adt, code, name, ids)   # the partner's T_ADT waits for it
         return Cause("reply", rule, ref, 3e-6, self.late_abs, code, name, ids)
 
+    def _receiving_state(self, run) -> str:
+        """Where a receiver is in the partner's block, from the partner's characters so far:
+        after a data DLE (an odd run of DLEs) waiting for ETX, after DLE ETX (3964R) waiting
+        for the BCC, else receiving data."""
+        inputs, i = run.judge.inputs, run.i_in
+
+        def dles_before(k: int) -> int:
+            n = 0
+            while k - 1 - n >= 0 and inputs[k - 1 - n].kind == "byte" and inputs[k - 1 - n].value == DLE:
+                n += 1
+            return n
+
+        if i and dles_before(i) % 2:
+            return T.WAIT_ETX
+        last = inputs[i - 1] if i else None
+        if (last is not None and last.kind == "byte" and last.value == ETX and dles_before(i - 1) % 2
+                and self.params[run.judge.seat].has_bcc):
+            return T.WAIT_BCC
+        return T.RECEIVE
+
+    @staticmethod
+    def _noted_code(run, start: float) -> int | None:
+        """The error a receiver's NAK begun at ``start`` reports: the first STATUS event it
+        raised as it decided to send it (before 16#0801 'repetition expected')."""
+        out = None
+        for t, code in reversed(run.events):
+            if t < start - 1e-9:
+                break
+            if t <= start + 1e-9 and code != Code.EXPECT_REPETITION:
+                out = code
+        return out
+
     def what(self, host: Host, entry: Any, k: int, byte: int) -> str:
         """A byte of the block the station sends, in words."""
         if entry is None or T.Action.SETUP_ACKNOWLEDGED not in entry[3]:
@@ -455,23 +554,73 @@ class Analyzer3964(ProcedureAnalyzer):
             return ("DLE of DLE ETX", "ETX of DLE ETX", f"the BCC {byte:02X}")[k - (n - n_end)]
         return f"byte {k + 1} of the block ({byte:02X})"
 
+    def _catalogued(self, rule_id: str, code: int | None = None, cause: Cause | None = None) -> Cause:
+        """The rule ``rule_id`` of the catalogue as the rule broken (before ``cause``'s, if given)."""
+        r = self.procedure.rules().get(rule_id)
+        if cause is None:
+            return Cause("reply", r.text.rstrip("."), r.ref, 0.0, 0.0, code, rules=(rule_id,))
+        return Cause(cause.kind, r.text.rstrip("."), _joined(r.ref, cause.reference), cause.early, cause.late,
+                     code or cause.code, cause.what, tuple(dict.fromkeys((rule_id,) + cause.rules)))
+
+    def _outside_frame(self, seat: str, item) -> bool:
+        """A value no character of the seat's frame carries (above 7F with 7 data bits)."""
+        return item.kind == "byte" and item.value > 0x7F and self.params[seat].data_bits == 7
+
+    def wrong(self, run, item, byte: int, cause: Cause) -> Cause:
+        if self._outside_frame(run.judge.seat, item):
+            return self._catalogued("3964.FRAME.SEVEN-BIT", cause=cause)
+        return cause
+
+    @staticmethod
+    def _character_error_in_block(inputs, i_in: int) -> str | None:
+        """The rule a receiver's answer breaks when the block it is receiving has a character
+        with a transmission error (the partner's characters back to its STX): the one for an
+        error right after a data DLE (an odd run of DLEs before it), or the general one. None
+        when the block has no such character."""
+        k = i_in - 1
+        while k >= 0:
+            x = inputs[k]
+            if x.kind == "byte" and x.value == STX:
+                return None
+            if x.kind == "break":
+                return None
+            if x.kind == "invalid":
+                n = 0
+                while k - 1 - n >= 0 and inputs[k - 1 - n].kind == "byte" and inputs[k - 1 - n].value == DLE:
+                    n += 1
+                return "3964.RX.CHARACTER-ERROR-IN-END" if n % 2 else "3964.RX.CHARACTER-ERROR"
+            k -= 1
+        return None
+
     def unexpected(self, run, host: Host, item, later) -> Cause:
         st = host.station
         if item.kind == "break":
             return Cause("reply", *_BREAK_RULE, 0.0, 0.0, Code.LINE_BREAK)
         if item.kind == "invalid":
             return Cause("reply", *_INVALID_RULE, 0.0, 0.0, Code.CHARACTER_ERROR)
-        if later is not None and later[1] == item.value:
-            return later[2]
+        if self._outside_frame(run.judge.seat, item):
+            return self._catalogued("3964.FRAME.SEVEN-BIT")
         inputs = run.judge.inputs
         last = inputs[run.i_in - 1] if run.i_in else None
+        if item.kind == "byte" and item.value in (DLE, NAK) and st.state in (T.RECEIVE, T.WAIT_ETX, T.WAIT_BCC):
+            # an answer in the middle of a block with a corrupted character: NAK only at its end
+            rid = self._character_error_in_block(inputs, run.i_in)
+            if rid is not None:
+                return self._catalogued(rid, Code.CHARACTER_ERROR)
+        if (last is not None and last.kind == "invalid" and item.kind == "byte" and item.value == DLE
+                and st.state in (T.IDLE, T.IDLE_JUNK)):
+            # a corrupted character in idle, an STX too, begins no block
+            return self._catalogued("3964.IDLE.CORRUPTED-STX", Code.CHARACTER_ERROR)
+        if (st.state is T.WAIT_SETUP_ACK and st.params.priority == "high" and item.kind == "byte"
+                and item.value in (DLE, STX) and last is not None and last.kind == "byte" and last.value == STX):
+            # it answered the partner's STX, or took it for a refusal and tried again at once
+            return Cause("reply", *_HIGH_KEEPS, 0.0, 0.0, rules=("3964.CONFLICT.HIGH-WAITS",))
+        if later is not None and later[1] == item.value:
+            return later[2]
         if last is not None and last.kind == "break" and item.start - last.t < self._rest:
             return Cause("reply", *_AFTER_BREAK, 0.0, 0.0, Code.LINE_BREAK)
         if item.value == STX and (run.judge.seat, run.i_obs) in self._unsendable:
             return Cause("reply", *_LEN_RULE, 0.0, 0.0, Code.LEN_ILLEGAL, rules=("3964.TX.LEN-ILLEGAL",))
-        if (st.state is T.WAIT_SETUP_ACK and st.params.priority == "high" and item.value == DLE
-                and last is not None and last.kind == "byte" and last.value == STX):
-            return Cause("reply", *_HIGH_KEEPS, 0.0, 0.0, rules=("3964.CONFLICT.HIGH-WAITS",))
         rule, ref = _STATE_RULES.get(st.state, ("the model's behaviour", "§2.2.2"))
         return Cause("reply", rule, ref, 0.0, 0.0, rules=_STATE_RULE_IDS.get(st.state, ()))
 
@@ -490,7 +639,9 @@ class Analyzer3964(ProcedureAnalyzer):
                                              "(within the timing resolution)", lead=resolution))
         if self._variants is None:
             kit = self.procedure.fuzz_kit()
-            self._variants = [
+            # every alternative starts with its receive buffer busy (see fresh): this one with
+            # nothing else changed says that a busy buffer explains the seat (Fig. 2-11)
+            self._variants = [Variant("buffer", _BUFFER_WORDS, kind="buffer")] + [
                 Variant(name, f"with the other reading of the manual's open point {name} "
                               f"({_READING_WORDS.get(name, 'see ptpcert.model.readings')})",
                         readings=replace(READINGS, **change))
