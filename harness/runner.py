@@ -154,6 +154,12 @@ class CaseRun:
         self.lower_bound: dict[int, float] = {}
         #: the longest the harness found itself stalled (woke up or sent late), seconds
         self.max_stall = 0.0
+        #: the longest the IUT's process was found runnable but kept from a CPU by the
+        #: machine's load (seconds; where the transport tells, see Transport.cpu_wait): an
+        #: IUT stalled that long may have let a timer run out that it would have met
+        self.iut_stall = 0.0
+        self._cpu: tuple[float, float | None] = (0.0, None)
+        self._starved = 0.0
         #: per stimulus (a send, character error or BREAK step): (step, IUT bytes read
         #: before its first byte went out)
         self.stimuli: list[tuple[int, int]] = []
@@ -179,6 +185,7 @@ class CaseRun:
             self.last_look = items[-1][0] if items else self.tr.now()
             # a read returns by its deadline: later, the machine stalled this process
             self.max_stall = max(self.max_stall, self.tr.now() - until)
+            self._sample_iut()
         else:
             items = self.tr.read(deadline)
         limit = self.opts.flood_limit
@@ -192,6 +199,24 @@ class CaseRun:
         if len(items) > room:
             self._drop("iut", len(items) - room, items[room][0])
             raise Flood(f"the IUT sent more than {limit} bytes in one case (the transcript keeps the first {limit})")
+
+    def _sample_iut(self) -> None:
+        """Between two looks, did the IUT wait for a CPU most of the time? Consecutive such
+        looks make one stall (how long the IUT could not act)."""
+        t0, w0 = self._cpu
+        now, w = self.tr.now(), self.tr.cpu_wait()
+        self._cpu = (now, w)
+        if w0 is None or w is None:
+            self._starved = 0.0
+            return
+        dt, dw = now - t0, w - w0
+        if dt <= 0:
+            return
+        if dw >= 0.5 * dt:     # (a child that ended takes its wait along: dw < 0, no stall)
+            self._starved += dw
+            self.iut_stall = max(self.iut_stall, self._starved)
+        else:
+            self._starved = 0.0
 
     def _record(self, entry: dict) -> None:
         """Log a byte, a character error or a BREAK on the line; beyond the flood limit of
@@ -972,25 +997,32 @@ class Runner:
                         res.divergence = R.Divergence(-1, round(rep.at, 6), "what the reference model does on the "
                                                       "same line", rep.why)
                 return "ok"
-            if run.max_stall <= tol.stimulus:
+            worst = max(run.max_stall, run.iut_stall)
+            if worst <= tol.stimulus:
                 # the harness kept its own timing in this attempt (no read or write came
-                # later than its tolerance): its bytes went out and the IUT's were read as
+                # later than its tolerance), and the IUT's process was not seen kept from a
+                # CPU as long: the tester's bytes went out and the IUT's were read as
                 # planned, so the divergence is the IUT's; judging it again by a model fed
                 # other timings would only explain real defects away
                 return outcome
+            if run.iut_stall > run.max_stall:
+                res.notes.append(f"the IUT's process was kept from a CPU by the machine's load for up to "
+                                 f"{1000 * run.iut_stall:.1f} ms in this attempt (its run-queue wait)")
             differences = []
-            # the machine stalled the harness noticeably: the IUT process may have been
-            # stalled as long (a third timeline); a stall under a character time is noise
-            stall = run.max_stall + run.look if run.max_stall > run.char else 0.0
+            # the machine stalled the harness or the IUT noticeably: the IUT process may have
+            # been stalled that long (a third timeline); a stall under a character time is noise
+            stall = worst + run.look if worst > run.char else 0.0
             timelines = [(False, 0.0), (True, 0.0)] + ([(False, stall)] if stall else [])
             for late, stalled in timelines:
                 rep = model(late, stalled)
                 problems = self._status_by_model(v, run, rep.codes) if rep.agrees and res.divergence is None else []
                 differences.append(f"{rep.timeline} timeline: " + (rep.why or "STATUS: " + "; ".join(problems)))
                 if rep.agrees and not problems:
-                    how = (f"as late as a process stalled for up to {1000 * stalled:.1f} ms (the longest stall the "
-                           "harness measured in this attempt, plus its look period) may have taken them, with as "
-                           "many of its own bytes out as a stalled IUT may have had" if stalled else
+                    whose = ("the IUT's process, kept from a CPU by the machine's load" if run.iut_stall > run.max_stall
+                             else "the harness")
+                    how = (f"as late as a process stalled for up to {1000 * stalled:.1f} ms (the longest stall "
+                           f"measured in this attempt, of {whose}, plus the harness's look period) may have taken "
+                           "them, with as many of its own bytes out as a stalled IUT may have had" if stalled else
                            "as late after the IUT's bytes as they may have reached it (the harness read an IUT byte "
                            "late and timed its reply from that read)" if late else
                            "when they really went out (the IUT had acted before the tester's reply reached it)")
@@ -1003,16 +1035,20 @@ class Runner:
                              "late the tester's bytes reached it (" + "; ".join(differences) + ")")
         except Exception as exc:   # the re-judgement must never cost the verdict
             res.notes.append(f"re-judging by the model failed: {type(exc).__name__}: {exc}")
-        if run.max_stall >= run.shortest:
-            # The machine stalled the harness as long as the IUT's shortest timer in this
-            # attempt, and so, as likely, the IUT process, which may then have missed a
-            # whole timer window: what the IUT saw on the line cannot be known well enough
-            # to blame it. (A shorter stall is covered by the stalled timeline above.)
+        if max(run.max_stall, run.iut_stall) >= run.shortest:
+            # The machine stalled the harness (and so, as likely, the IUT process) or the IUT
+            # process itself as long as the IUT's shortest timer in this attempt: the IUT may
+            # then have missed a whole timer window, and what it saw on the line cannot be
+            # known well enough to blame it. (A shorter stall is covered by the stalled
+            # timeline above.)
             res.notes.append(f"failed attempt: {res.message}")
             res.verdict = R.ERROR
-            res.message = (f"harness timing fault: the harness was stalled for up to {1000 * run.max_stall:.1f} ms "
-                           f"in this attempt (its own timing is kept to {1000 * tol.stimulus:.1f} ms); the IUT's "
-                           "divergence cannot be told from the machine's load")
+            who = ("the harness was stalled" if run.max_stall >= run.iut_stall else
+                   "the IUT's process was kept from a CPU")
+            res.message = (f"harness timing fault: {who} for up to "
+                           f"{1000 * max(run.max_stall, run.iut_stall):.1f} ms in this attempt (the harness keeps its "
+                           f"own timing to {1000 * tol.stimulus:.1f} ms); the IUT's divergence cannot be told from "
+                           "the machine's load")
             return "timing"
         return outcome
 

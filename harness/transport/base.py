@@ -80,6 +80,12 @@ class Transport:
         that is not reading yet (its timing would be lost)."""
         return True
 
+    def cpu_wait(self) -> float | None:
+        """Seconds the IUT's processes have spent, since they started, runnable but waiting
+        for a CPU (the machine's load stalling them), or None where the IUT does not run on
+        this machine or the system does not tell."""
+        return None
+
     def status_reports(self) -> list[tuple[float, int]]:
         """STATUS events the IUT reported since the last call (time, code)."""
         return []

@@ -68,6 +68,7 @@ class ProcessTransport(Transport):
             caps.add(STATUS)
         self.capabilities = frozenset(caps)
         self.proc: subprocess.Popen | None = None
+        self._no_schedstat = False
         self.parser = StatusParser()
         self._closed = False
         self._eof = False
@@ -223,6 +224,33 @@ class ProcessTransport(Transport):
         except (OSError, IndexError):
             return None
         return False
+
+    def cpu_wait(self) -> float | None:
+        """Linux: the run-queue wait of every thread of the IUT's process and its children
+        (/proc/PID/task/TID/schedstat, second field, nanoseconds)."""
+        if self.proc is None or self._closed or self._no_schedstat:
+            return None
+        total = 0
+        todo = [self.proc.pid]
+        seen = 0
+        try:
+            while todo and seen < 64:
+                pid = todo.pop()
+                seen += 1
+                base = f"/proc/{pid}/task"
+                for tid in os.listdir(base):
+                    with open(f"{base}/{tid}/schedstat", "rb") as f:
+                        total += int(f.read().split()[1])
+                    try:
+                        with open(f"{base}/{tid}/children", "rb") as f:
+                            todo.extend(int(c) for c in f.read().split())
+                    except OSError:
+                        pass
+        except (OSError, ValueError, IndexError):
+            if pid == self.proc.pid:
+                self._no_schedstat = self.proc.poll() is None   # not available here at all
+                return None
+        return total / 1e9
 
     def status_reports(self) -> list[tuple[float, int]]:
         if self.proc is not None and not self._closed:
