@@ -1,7 +1,7 @@
 """Concurrent cases at the manual's default timers. Prints figures; exits 1 when a
 done-when figure is missed.
 
-    python benchmarks/bench_jobs.py [--jobs 8] [--select GLOB ...] [--no-serial] [--no-plugin]
+    python benchmarks/bench_jobs.py [--jobs 8] [--repeat 5] [--select GLOB ...] [--no-serial] [--no-plugin]
 
 1. The full 3964R suite against the bundled reference implementation over exec: at
    CDT 220 ms / ADT 2000 ms (Table 2-4's defaults), serially and with ``--jobs 8``: wall
@@ -9,6 +9,8 @@ done-when figure is missed.
    waits / jobs), and whether both runs gave the same verdicts. The forced waits are the
    protocol's own (each result's ``forced_wait``), so the bound is what perfect overlap
    would reach plus 30 %. A serial run takes minutes (the sum of the forced waits).
+   ``--repeat N`` runs the ``--jobs`` run N times in a row: each must meet the bound and give
+   the serial run's verdicts.
 2. The pytest plugin against the reference at 20 ms timers: its outcome counts equal
    ``ptpcert run``'s, also with pytest-xdist's ``-n 2``.
 
@@ -92,15 +94,19 @@ def main() -> int:
     ap.add_argument("--select", action="append", default=[], help="only these cases (a quicker look)")
     ap.add_argument("--no-serial", action="store_true", help="skip the serial run (no verdict comparison)")
     ap.add_argument("--no-plugin", action="store_true")
+    ap.add_argument("--repeat", type=int, default=1, help="how many --jobs runs in a row (default 1)")
     args = ap.parse_args()
     ok = True
     tmp = Path(tempfile.mkdtemp(prefix="bench-jobs-"))
     profile = default_timers_profile(tmp)
     print(f"before: {load()}")
-    runs = {}
-    for jobs in ([] if args.no_serial else [1]) + [args.jobs]:
-        wall, d = suite_run(profile, jobs, args.select, tmp / f"r{jobs}.json")
-        runs[jobs] = d
+    runs: dict[int, dict] = {}
+    parallel: list[dict] = []
+    for i, jobs in enumerate(([] if args.no_serial else [1]) + [args.jobs] * max(1, args.repeat)):
+        wall, d = suite_run(profile, jobs, args.select, tmp / f"r{jobs}-{i}.json")
+        runs.setdefault(jobs, d)
+        if jobs == args.jobs:
+            parallel.append(d)
         cases = d["cases"]
         chain, total, limit = bound(cases, args.jobs)
         counts = Counter(c["verdict"] for c in cases)
@@ -114,12 +120,15 @@ def main() -> int:
                   f"{total:.1f} / {args.jobs}) = {limit:.1f} s: {'met' if met else 'MISSED'}")
         else:
             print(f"  forced waits: sum {total:.1f} s; wall / forced {d['wall_time'] / max(total, 1e-9):.2f}")
-    if len(runs) == 2:
-        a, b = (runs[j]["cases"] for j in sorted(runs))
-        same_order = [c["id"] for c in a] == [c["id"] for c in b]
-        diff = [(x["id"], x["verdict"], y["verdict"]) for x, y in zip(a, b) if x["verdict"] != y["verdict"]]
-        ok &= same_order and not diff
-        print(f"  same cases in the same order: {same_order}; verdicts differing: {diff or 'none'}")
+    if 1 in runs and args.jobs != 1:
+        a = runs[1]["cases"]
+        for n, d in enumerate(parallel, 1):
+            b = d["cases"]
+            same_order = [c["id"] for c in a] == [c["id"] for c in b]
+            diff = [(x["id"], x["verdict"], y["verdict"]) for x, y in zip(a, b) if x["verdict"] != y["verdict"]]
+            ok &= same_order and not diff
+            print(f"  --jobs {args.jobs} run {n} against the serial run: same cases in the same order: {same_order}; "
+                  f"verdicts differing: {diff or 'none'}")
     if not args.no_plugin:
         subprocess.run([PY, "-m", "ptpcert.cli", "run", "--iut", IUT_20, "--profile", str(REFERENCE_20),
                         "--json", str(tmp / "r20.json"), "-q", "--jobs", "2"], cwd=ROOT, stdout=subprocess.DEVNULL)
