@@ -8,6 +8,8 @@ waits. With the ``sim:`` transport the same code runs in virtual time.
 
 from __future__ import annotations
 
+import collections
+
 import time
 from dataclasses import dataclass, replace
 from typing import Callable, Iterable
@@ -105,6 +107,11 @@ class RunOptions:
 # ------------------------------------------------------------------ the case driver
 
 
+#: an IUT process that waited for a CPU this share of a stretch as long as its shortest timer
+#: may have missed that timer for the machine's load (a steady load: a little at every moment)
+STARVED = 0.4
+
+
 class CaseRun:
     """Executes one vector once against an open transport."""
 
@@ -158,7 +165,12 @@ class CaseRun:
         #: machine's load (seconds; where the transport tells, see Transport.cpu_wait): an
         #: IUT stalled that long may have let a timer run out that it would have met
         self.iut_stall = 0.0
+        #: the most the IUT's process waited for a CPU within any stretch as long as its
+        #: shortest timer in this attempt (seconds): a steady load takes a little at every
+        #: moment, never long at once
+        self.iut_wait = 0.0
         self._cpu: tuple[float, float | None] = (0.0, None)
+        self._waits: collections.deque = collections.deque()     # (time, cumulative wait)
         self._starved = 0.0
         #: per stimulus (a send, character error or BREAK step): (step, IUT bytes read
         #: before its first byte went out)
@@ -210,6 +222,13 @@ class CaseRun:
             self._starved = 0.0
             return
         dt, dw = now - t0, w - w0
+        waits = self._waits
+        if dw < 0:
+            waits.clear()      # a child that ended took its wait along: start afresh
+        waits.append((now, w))
+        while len(waits) > 1 and waits[1][0] <= now - self.shortest:
+            waits.popleft()
+        self.iut_wait = max(self.iut_wait, w - waits[0][1])
         if dt <= 0:
             return
         if dw >= 0.5 * dt:     # (a child that ended takes its wait along: dw < 0, no stall)
@@ -998,16 +1017,19 @@ class Runner:
                                                       "same line", rep.why)
                 return "ok"
             worst = max(run.max_stall, run.iut_stall)
-            if worst <= tol.stimulus:
+            starved = run.iut_wait >= STARVED * run.shortest
+            if worst <= tol.stimulus and not starved:
                 # the harness kept its own timing in this attempt (no read or write came
                 # later than its tolerance), and the IUT's process was not seen kept from a
                 # CPU as long: the tester's bytes went out and the IUT's were read as
                 # planned, so the divergence is the IUT's; judging it again by a model fed
                 # other timings would only explain real defects away
                 return outcome
-            if run.iut_stall > run.max_stall:
+            if run.iut_stall > run.max_stall or starved:
                 res.notes.append(f"the IUT's process was kept from a CPU by the machine's load for up to "
-                                 f"{1000 * run.iut_stall:.1f} ms in this attempt (its run-queue wait)")
+                                 f"{1000 * run.iut_stall:.1f} ms at a time, and for {1000 * run.iut_wait:.1f} ms in all "
+                                 f"within {1000 * run.shortest:.0f} ms (its shortest timer), in this attempt (its "
+                                 "run-queue wait)")
             differences = []
             # the machine stalled the harness or the IUT noticeably: the IUT process may have
             # been stalled that long (a third timeline); a stall under a character time is noise
@@ -1035,7 +1057,7 @@ class Runner:
                              "late the tester's bytes reached it (" + "; ".join(differences) + ")")
         except Exception as exc:   # the re-judgement must never cost the verdict
             res.notes.append(f"re-judging by the model failed: {type(exc).__name__}: {exc}")
-        if max(run.max_stall, run.iut_stall) >= run.shortest:
+        if max(run.max_stall, run.iut_stall) >= run.shortest or run.iut_wait >= STARVED * run.shortest:
             # The machine stalled the harness (and so, as likely, the IUT process) or the IUT
             # process itself as long as the IUT's shortest timer in this attempt: the IUT may
             # then have missed a whole timer window, and what it saw on the line cannot be
@@ -1043,12 +1065,16 @@ class Runner:
             # timeline above.)
             res.notes.append(f"failed attempt: {res.message}")
             res.verdict = R.ERROR
-            who = ("the harness was stalled" if run.max_stall >= run.iut_stall else
-                   "the IUT's process was kept from a CPU")
-            res.message = (f"harness timing fault: {who} for up to "
-                           f"{1000 * max(run.max_stall, run.iut_stall):.1f} ms in this attempt (the harness keeps its "
-                           f"own timing to {1000 * tol.stimulus:.1f} ms); the IUT's divergence cannot be told from "
-                           "the machine's load")
+            if run.max_stall >= run.shortest:
+                what = f"the harness was stalled for up to {1000 * run.max_stall:.1f} ms"
+            elif run.iut_stall >= run.shortest:
+                what = f"the IUT's process was kept from a CPU for up to {1000 * run.iut_stall:.1f} ms"
+            else:
+                what = (f"the IUT's process was kept from a CPU for {1000 * run.iut_wait:.1f} ms in all within "
+                        f"{1000 * run.shortest:.0f} ms, its shortest timer")
+            res.message = (f"harness timing fault: {what} in this attempt (the harness keeps its own timing to "
+                           f"{1000 * tol.stimulus:.1f} ms); the IUT's divergence cannot be told from the machine's "
+                           "load")
             return "timing"
         return outcome
 

@@ -227,29 +227,44 @@ class ProcessTransport(Transport):
 
     def cpu_wait(self) -> float | None:
         """Linux: the run-queue wait of every thread of the IUT's process and its children
-        (/proc/PID/task/TID/schedstat, second field, nanoseconds)."""
+        (/proc/PID/task/TID/schedstat, second field, nanoseconds). A thread or child that
+        ends while it is read is left out (its wait with it); where /proc has no schedstat at
+        all, None from then on."""
         if self.proc is None or self._closed or self._no_schedstat:
             return None
         total = 0
         todo = [self.proc.pid]
         seen = 0
-        try:
-            while todo and seen < 64:
-                pid = todo.pop()
-                seen += 1
-                base = f"/proc/{pid}/task"
-                for tid in os.listdir(base):
+        while todo and seen < 64:
+            pid = todo.pop()
+            seen += 1
+            base = f"/proc/{pid}/task"
+            try:
+                tasks = os.listdir(base)
+            except OSError:
+                if pid == self.proc.pid:
+                    if self.proc.poll() is None and not os.path.exists(f"/proc/{pid}"):
+                        self._no_schedstat = True     # no /proc here
+                    return None
+                continue
+            for tid in tasks:
+                try:
                     with open(f"{base}/{tid}/schedstat", "rb") as f:
                         total += int(f.read().split()[1])
-                    try:
-                        with open(f"{base}/{tid}/children", "rb") as f:
-                            todo.extend(int(c) for c in f.read().split())
-                    except OSError:
-                        pass
-        except (OSError, ValueError, IndexError):
-            if pid == self.proc.pid:
-                self._no_schedstat = self.proc.poll() is None   # not available here at all
-                return None
+                except FileNotFoundError:
+                    if not os.path.exists(f"/proc/{pid}"):
+                        continue
+                    if not os.path.exists(f"{base}/{tid}"):
+                        continue          # the thread ended meanwhile
+                    self._no_schedstat = True         # a kernel without schedstats
+                    return None
+                except (OSError, ValueError, IndexError):
+                    continue
+                try:
+                    with open(f"{base}/{tid}/children", "rb") as f:
+                        todo.extend(int(c) for c in f.read().split())
+                except (OSError, ValueError):
+                    pass
         return total / 1e9
 
     def status_reports(self) -> list[tuple[float, int]]:
