@@ -636,6 +636,11 @@ class SeatRun:
             follow = d - r
             if follow > 1e-7:
                 self.st.delay_output(follow)
+            elif d < -1e-7 and r > 0 and hasattr(self.st, "advance_output"):
+                # earlier than the model: the seat's byte was complete by its timestamp, so
+                # the model (its start held back by the other seat's late-stamped bytes) runs
+                # behind the seat; its schedule moves up, within the resolution
+                self.st.advance_output(min(-d, r))
             return False
         if o is None and hi > j.analysis.known_until:
             return WAIT
@@ -1200,7 +1205,9 @@ class LineAnalysis:
     def close(self, end: float | None = None) -> None:
         """The recording has ended (at ``end``, when known): judge everything."""
         last = self.chunks[-1].t if self.chunks else 0.0
-        self.end = max(end, last) if end is not None else None
+        # a recording whose end is not known ended no sooner than its last character: what
+        # was due after that is not judged
+        self.end = max(end, last) if end is not None else last
         self.complete = True
         self.known_until = inf
         for j in self.judges.values():

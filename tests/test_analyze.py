@@ -565,6 +565,7 @@ def test_a_busy_link_read_as_a_monitor_reads_it_is_judged_clean_and_in_bounded_t
     assert sum(1 for c in cap.chunks if c.data == bytes([STX])) > 40     # the line never rested
     char = pb.char_time
     resolution = 8 * char + 0.002              # what the monitor assumes at 9600 bit/s
+    passed = 0
     for seed in range(6):
         read = _as_a_monitor_reads_it(cap, char, resolution, seed, stalls)
         assert any(a.t == b.t and a.seat != b.seat for a, b in zip(read.chunks, read.chunks[1:]))
@@ -572,10 +573,15 @@ def test_a_busy_link_read_as_a_monitor_reads_it_is_judged_clean_and_in_bounded_t
         an = A.analyze(read, kit_for(pa, pb, {"a": "echo", "b": "echo"}), resolution=resolution)
         assert _time.process_time() - t0 < 60, "the analysis makes no progress"
         assert not fails(an), (seed, [f.message for f in fails(an)][:3])
-        assert any(e.verdict == R.PASS for e in an.exchanges)
+        verdicts = [e.verdict for e in an.exchanges]
+        if not stalls:
+            # the reads settle most of the line: most exchanges pass outright
+            assert verdicts.count(R.PASS) * 2 >= len(verdicts), verdicts
+        passed += verdicts.count(R.PASS)
         # what it could not settle, it says why
         assert all(f.notes or f.kind in ("timing", "resolution", "reading", "end") for f in an.findings), \
             [(f.kind, f.message) for f in an.findings if not f.notes][:3]
+    assert passed
 
 
 def test_a_defect_on_a_busy_link_read_as_a_monitor_reads_it_is_still_found():
@@ -621,11 +627,16 @@ def test_findings_near_lost_data_or_before_a_quiet_line_are_informational():
     lost = C.Chunk(round(last_a + 0.002, 6), "b", condition=C.Cond.LOST)
     quiet = C.Chunk(0.0001, "a", bytes([NAK]))
     kit = kit_for(PA, PB, {"a": "none", "b": "none"})
-    an = A.analyze(C.Capture([quiet] + chunks + [lost], line=cap.line), kit)
+    end = last_a + 1.0          # the recording went on for a second after a's block
+    an = A.analyze(C.Capture([quiet] + chunks + [lost], line=cap.line, end=end), kit)
     assert an.findings and not fails(an)
     assert any("lost data" in n for f in an.findings for n in f.notes)
     # without the mark the same recording fails a: the mark is what keeps it informational
-    assert fails(A.analyze(C.Capture([quiet] + chunks, line=cap.line), kit), "a")
+    assert fails(A.analyze(C.Capture([quiet] + chunks, line=cap.line, end=end), kit), "a")
+    # and where the recording's end is not known, it ended with its last character: what
+    # was due after it is not judged
+    unknown = A.analyze(C.Capture([quiet] + chunks, line=cap.line), kit)
+    assert not fails(unknown)
 
 
 def test_a_restart_is_a_note_and_a_missing_start_up_nak_after_a_power_on_mark_fails():

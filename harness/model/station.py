@@ -443,6 +443,34 @@ class Station3964:
         if self._timer is not None and self._timer_from_tx:
             self._timer_at += delta
 
+    def advance_output(self, delta: float) -> float:
+        """The line carried what the station sent up to ``delta`` seconds sooner than
+        scheduled (an analysis that learns the station's transmission began earlier than it
+        thought): what is still scheduled, the end of the transmission and any timer measured
+        from it move earlier, but nothing before the present. Returns the move made."""
+        if delta <= 0:
+            return 0.0
+        now = self.now
+        if self._tx:
+            delta = min(delta, self._tx[0][0] - now)
+        if self._tx_done_at != inf:
+            delta = min(delta, self._tx_done_at - now)
+        if self._timer is not None and self._timer_from_tx:
+            delta = min(delta, self._timer_at - now)
+        if delta <= 0:
+            return 0.0
+        for run in self._tx:
+            run[0] -= delta
+        self._tx_free_at -= delta
+        self._popped_end -= delta
+        if self._tx_done_at != inf:
+            self._tx_done_at -= delta
+            self._end_seq_at -= delta
+            self._dle_etx_done_at -= delta
+        if self._timer is not None and self._timer_from_tx:
+            self._timer_at -= delta
+        return delta
+
     # ================================================================== transmitter
     def _send(self, data: bytes) -> float:
         """Schedule ``data`` on the line; return when its last byte has been sent."""
