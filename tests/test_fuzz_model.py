@@ -71,6 +71,9 @@ class TwoStations(RuleBasedStateMachine):
         self.faulted = False       # a byte was dropped, corrupted or duplicated, or a BREAK sent
         self.requests = {"a": [], "b": []}
         self.link = Link(self.a, self.b, hook=self._hook)
+        # STX and NAK start times per (side, byte), and how much of the wire they cover (starts)
+        self._starts = {(side, c): [] for side in "ab" for c in (0x02, 0x15)}
+        self._scanned = 0
         self.link.power_on(0.0)
         # both start-up NAKs are out before the first job: a start-up NAK that crosses a
         # setup is a line event of its own (it refuses the STX), exercised by line_break/fault
@@ -196,6 +199,18 @@ class TwoStations(RuleBasedStateMachine):
                     starved = [e for e in done if isinstance(e, SendFailed)]
                     assert codes == [0x0709] * len(starved), codes
 
+    def starts(self, side, byte) -> list[float]:
+        """The start times of the ``byte`` characters (STX or NAK) ``side`` put on the line,
+        in wire order. The wire only grows: each call looks at the characters added since
+        the last one (one pass over the wire per example, not one per step)."""
+        wire, seen = self.link.wire, self._starts
+        for i in range(self._scanned, len(wire)):
+            w = wire[i]
+            if w.byte == 0x02 or w.byte == 0x15:
+                seen[w.src, w.byte].append(w.start)
+        self._scanned = len(wire)
+        return seen[side, byte]
+
     def disturbed(self) -> bool:
         """A fault was injected, or a NAK crossed an STX of the partner on the line. The
         second needs no fault: a low-priority station starved by conflicts (``starved``)
@@ -221,8 +236,7 @@ class TwoStations(RuleBasedStateMachine):
     def crossing(self, side, byte, partner_byte, window) -> int:
         """How many ``byte`` characters of ``side`` started less than ``window`` seconds
         from a ``partner_byte`` of the other side (the wire is in time order)."""
-        mine = [w.start for w in self.link.wire if w.src == side and w.byte == byte]
-        theirs = [w.start for w in self.link.wire if w.src != side and w.byte == partner_byte]
+        mine, theirs = self.starts(side, byte), self.starts("b" if side == "a" else "a", partner_byte)
         n = 0
         for t in mine:
             i = bisect_right(theirs, t - window)   # the first one later than t - window
