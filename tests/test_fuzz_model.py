@@ -36,12 +36,23 @@ byte = st.one_of(st.sampled_from(CONTROL), st.integers(0, 255))
 short_payloads = st.lists(byte, min_size=1, max_size=24).map(bytes)
 
 
+# for a pick byte s: the control character it puts in place of the value (s >= 128), and
+# whether it does (a mask byte FF); the pick is made for all the bytes at once (_long_payload)
+_PICK_CONTROL = bytes(CONTROL[s % len(CONTROL)] if s >= 128 else 0 for s in range(256))
+_PICK_MASK = bytes(0xFF if s >= 128 else 0 for s in range(256))
+
+
 def _long_payload(size: int, seed: int) -> bytes:
     """``size`` bytes, about half of them control characters and the rest any value, as
-    ``byte`` draws them, from a seeded generator."""
+    ``byte`` draws them, from a seeded generator: byte i is CONTROL[s % 5] where the i-th
+    pick s is >= 128, and the i-th value otherwise (computed on whole integers, not byte
+    by byte)."""
     rnd = random.Random(seed)
     values, picks = rnd.randbytes(size), rnd.randbytes(size)
-    return bytes(CONTROL[s % len(CONTROL)] if s >= 128 else b for b, s in zip(values, picks))
+    v = int.from_bytes(values, "big")
+    mask = int.from_bytes(picks.translate(_PICK_MASK), "big")
+    control = int.from_bytes(picks.translate(_PICK_CONTROL), "big")
+    return (((v | mask) ^ mask) | control).to_bytes(size, "big")
 
 
 # Blocks of 1000 to 1024 bytes: drawn as a length and a seed (two choices) instead of a
@@ -70,10 +81,15 @@ class TwoStations(RuleBasedStateMachine):
         self.faults: list[tuple[str, str]] = []
         self.faulted = False       # a byte was dropped, corrupted or duplicated, or a BREAK sent
         self.requests = {"a": [], "b": []}
-        self.link = Link(self.a, self.b, hook=self._hook)
+        # the hook is attached only while a fault is pending (fault, _hook): without one it
+        # would leave every character alone, which is what the link does with no hook
+        self.link = Link(self.a, self.b)
         # STX and NAK start times per (side, byte), and how much of the wire they cover (starts)
         self._starts = {(side, c): [] for side in "ab" for c in (0x02, 0x15)}
         self._scanned = 0
+        # crossing(): per question, how many characters of each side it has looked at, and
+        # which characters of the asking side have crossed
+        self._crossings: dict[tuple, list] = {}
         self.link.power_on(0.0)
         # both start-up NAKs are out before the first job: a start-up NAK that crosses a
         # setup is a line event of its own (it refuses the STX), exercised by line_break/fault
@@ -84,6 +100,8 @@ class TwoStations(RuleBasedStateMachine):
         for i, (src, kind) in enumerate(self.faults):
             if src == w.src:
                 del self.faults[i]
+                if not self.faults:
+                    self.link.hook = None
                 self.faulted = True
                 note(f"fault: {kind} {w.byte:02X} from {w.src} at {w.start:.6f}")
                 return kind
@@ -126,6 +144,7 @@ class TwoStations(RuleBasedStateMachine):
     @rule(src=st.sampled_from("ab"), kind=st.sampled_from([DROP, CORRUPT, DUPLICATE]))
     def fault(self, src, kind):
         self.faults.append((src, kind))
+        self.link.hook = self._hook
 
     @rule(side=st.sampled_from("ab"))
     def line_break(self, side):
@@ -235,17 +254,44 @@ class TwoStations(RuleBasedStateMachine):
 
     def crossing(self, side, byte, partner_byte, window) -> int:
         """How many ``byte`` characters of ``side`` started less than ``window`` seconds
-        from a ``partner_byte`` of the other side (the wire is in time order)."""
+        from a ``partner_byte`` of the other side: those at t with a partner's character at
+        u where u > t - window and u - t < window. Each side's characters are on the wire
+        in time order. Counted as characters come: a new one of ``side`` against all the
+        partner's, a new one of the partner against those of ``side`` near it."""
         mine, theirs = self.starts(side, byte), self.starts("b" if side == "a" else "a", partner_byte)
-        n = 0
-        for t in mine:
+        state = self._crossings.setdefault((side, byte, partner_byte, window), [0, 0, set()])
+        seen_mine, seen_theirs, hit = state
+        for j in range(seen_mine, len(mine)):
+            t = mine[j]
             i = bisect_right(theirs, t - window)   # the first one later than t - window
-            n += i < len(theirs) and theirs[i] - t < window
-        return n
+            if i < len(theirs) and theirs[i] - t < window:
+                hit.add(j)
+        for u in theirs[seen_theirs:]:
+            # the characters of ``side`` near u (a wider range, then the exact test)
+            j = bisect_right(mine, u - 2 * window)
+            while j < len(mine) and mine[j] < u + 2 * window:
+                t = mine[j]
+                if u > t - window and u - t < window:
+                    hit.add(j)
+                j += 1
+        state[0], state[1] = len(mine), len(theirs)
+        return len(hit)
 
 
 TestTwoStations = TwoStations.TestCase
 # settings: the profile loaded by tests/conftest.py (ptpcert-quick unless told otherwise)
+
+
+def test_long_payloads_follow_the_byte_rule():
+    """_long_payload picks for all bytes at once what this per-byte rule picks: the value,
+    or CONTROL[pick % 5] where the pick is >= 128."""
+    for size, seed in [(1, 0), (7, 1), (1000, 2), (1017, 3), (1024, 2**32 - 1)]:
+        rnd = random.Random(seed)
+        values, picks = rnd.randbytes(size), rnd.randbytes(size)
+        expected = bytes(CONTROL[s % len(CONTROL)] if s >= 128 else b for b, s in zip(values, picks))
+        assert _long_payload(size, seed) == expected
+    block = _long_payload(1024, 5)
+    assert 400 < sum(b in CONTROL for b in block) < 700   # about half control characters
 
 
 def test_low_priority_job_starved_by_back_to_back_conflicts_is_allowed():
