@@ -465,7 +465,9 @@ def test_runs_carried_at_once_change_nothing():
     with a hook too."""
     import random
     rnd = random.Random(3964)
-    for trial in range(80):
+    for trial in range(120):
+        # the last trials with dense control characters: DLE pairs in runs, lone DLEs
+        dense = 0.05 if trial < 80 else 0.4
         proc = rnd.choice(["3964", "3964R"])
         baud = rnd.choice([9600, 19200, 2400, None])
         script = []
@@ -473,7 +475,7 @@ def test_runs_carried_at_once_change_nothing():
             kind = rnd.random()
             if kind < 0.45:
                 size = rnd.choice([1, 5, 64, 300, 1024])
-                data = bytes(rnd.choice([0x10, 0x02, 0x03, 0x15]) if rnd.random() < 0.05 else rnd.randrange(256)
+                data = bytes(rnd.choice([0x10, 0x02, 0x03, 0x15]) if rnd.random() < dense else rnd.randrange(256)
                              for _ in range(size))
                 script.append(("request", (rnd.choice("ab"), data)))
             elif kind < 0.75:
@@ -503,3 +505,15 @@ def test_a_long_block_at_9600_is_carried_in_few_steps():
     assert link.run_until_quiet(60)
     assert [e.payload for e in link.events_of(b, Delivered)] == [payload[:1024].replace(b"\x10", b"\x11")]
     assert sum(calls) >= 1000 and len(calls) <= 10
+    # the same with the DLEs left in: each is sent doubled and the pair is taken with the run
+    calls.clear()
+    link.request(a, payload[:1024])
+    assert link.run_until_quiet(120)
+    assert [e.payload for e in link.events_of(b, Delivered)][-1] == payload[:1024]
+    assert sum(calls) >= 1000 and len(calls) <= 10
+    # a block of nothing but DLE (2048 characters of data on the line) too
+    calls.clear()
+    link.request(a, bytes([DLE]) * 1024)
+    assert link.run_until_quiet(180)
+    assert [e.payload for e in link.events_of(b, Delivered)][-1] == bytes([DLE]) * 1024
+    assert sum(calls) >= 2000 and len(calls) <= 10
