@@ -326,9 +326,12 @@ class Station3964:
         """The earliest time at which the station wants :meth:`handle_timer` (a timer, the
         end of a transmission, or the start of a byte to transmit); None when it waits
         only for input."""
-        t = min(self._timer_at, self._tx_done_at)
-        if self._tx:
-            t = min(t, self._tx[0][0])
+        t, done = self._timer_at, self._tx_done_at
+        if done < t:
+            t = done
+        tx = self._tx
+        if tx and tx[0][0] < t:
+            t = tx[0][0]
         return None if t == inf else t
 
     def handle_timer(self, now: float) -> None:
@@ -347,8 +350,10 @@ class Station3964:
     def pop_output_runs(self, now: float | None = None) -> list[tuple[float, bytes]]:
         """Like :meth:`pop_output`, as runs (start of the first byte, bytes) of characters
         sent back to back."""
-        out = []
         tx = self._tx
+        if not tx:
+            return []
+        out = []
         limit = inf if now is None else now + _EPS
         char = self._char
         while tx and tx[0][0] <= limit:
@@ -450,7 +455,8 @@ class Station3964:
             else:
                 name, self._timer, self._timer_at = self._timer, None, inf
                 self._input(name)
-        self.now = max(self.now, now)
+        if now > self.now:
+            self.now = now
 
     def _start_timer(self, name: str, duration: float, since: float | None = None) -> None:
         # a timer measured from the end of our own transmission moves with it (delay_output)
