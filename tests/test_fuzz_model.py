@@ -20,6 +20,7 @@ Settings: the "ptpcert-quick" profile (extends hypothesis's "ci" profile) unless
 import random
 from bisect import bisect_right
 from collections import Counter
+from operator import attrgetter
 
 from hypothesis import note, strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, precondition, rule
@@ -223,11 +224,15 @@ class TwoStations(RuleBasedStateMachine):
         in wire order. The wire only grows: each call looks at the characters added since
         the last one (one pass over the wire per example, not one per step)."""
         wire, seen = self.link.wire, self._starts
-        for i in range(self._scanned, len(wire)):
-            w = wire[i]
-            if w.byte == 0x02 or w.byte == 0x15:
-                seen[w.src, w.byte].append(w.start)
-        self._scanned = len(wire)
+        if self._scanned < len(wire):
+            new = wire[self._scanned:]
+            values = bytes(map(attrgetter("byte"), new))   # found by bytes.find, not a loop
+            for c in (0x02, 0x15):
+                i = values.find(c)
+                while i >= 0:
+                    seen[new[i].src, c].append(new[i].start)
+                    i = values.find(c, i + 1)
+            self._scanned = len(wire)
         return seen[side, byte]
 
     def disturbed(self) -> bool:
