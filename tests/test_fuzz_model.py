@@ -20,7 +20,6 @@ Settings: the "ptpcert-quick" profile (extends hypothesis's "ci" profile) unless
 import random
 from bisect import bisect_right
 from collections import Counter
-from operator import attrgetter
 
 from hypothesis import note, strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, precondition, rule
@@ -85,7 +84,7 @@ class TwoStations(RuleBasedStateMachine):
         # the hook is attached only while a fault is pending (fault, _hook): without one it
         # would leave every character alone, which is what the link does with no hook
         self.link = Link(self.a, self.b)
-        # STX and NAK start times per (side, byte), and how much of the wire they cover (starts)
+        # STX and NAK start times per (side, byte), and how many runs of the wire they cover (starts)
         self._starts = {(side, c): [] for side in "ab" for c in (0x02, 0x15)}
         self._scanned = 0
         # crossing(): per question, how many characters of each side it has looked at, and
@@ -127,8 +126,8 @@ class TwoStations(RuleBasedStateMachine):
 
     @rule(n=st.integers(1, 40))
     def deliver(self, n):
-        target = len(self.link.wire) + n
-        while len(self.link.wire) < target:
+        target = self.link.wire_length + n
+        while self.link.wire_length < target:
             t = self.link.next_time()
             if t == float("inf"):
                 break
@@ -221,18 +220,17 @@ class TwoStations(RuleBasedStateMachine):
 
     def starts(self, side, byte) -> list[float]:
         """The start times of the ``byte`` characters (STX or NAK) ``side`` put on the line,
-        in wire order. The wire only grows: each call looks at the characters added since
-        the last one (one pass over the wire per example, not one per step)."""
-        wire, seen = self.link.wire, self._starts
-        if self._scanned < len(wire):
-            new = wire[self._scanned:]
-            values = bytes(map(attrgetter("byte"), new))   # found by bytes.find, not a loop
+        in line order. The wire only grows: each call looks at the runs of characters added
+        since the last one (one pass over the wire per example, not one per step)."""
+        runs, seen = self.link.wire_runs, self._starts
+        for run in runs[self._scanned:]:
+            data = run.data
             for c in (0x02, 0x15):
-                i = values.find(c)
+                i = data.find(c)
                 while i >= 0:
-                    seen[new[i].src, c].append(new[i].start)
-                    i = values.find(c, i + 1)
-            self._scanned = len(wire)
+                    seen[run.src, c].append(run.start + i * run.char)   # as on link.wire
+                    i = data.find(c, i + 1)
+        self._scanned = len(runs)
         return seen[side, byte]
 
     def disturbed(self) -> bool:

@@ -450,6 +450,8 @@ def _scripted(streams: bool, script, baud, proc, hook_while_faults: bool = False
         elif what == "break":
             link.inject_break(b, at=link.now)
     link.run_until_quiet(link.now + 30.0)
+    length = link.wire_length       # counted before the wire is built from its runs
+    assert length == len(link.wire)
     return (seen, [(round(w.start, 9), w.src, w.byte, w.fate) for w in link.wire],
             [(n, type(e).__name__, round(e.time, 9), getattr(e, "code", getattr(e, "payload", None)))
              for n, e in link.events],
@@ -486,6 +488,8 @@ def test_runs_carried_at_once_change_nothing():
                 script.append(("break", None))
         slow, fast = _scripted(False, script, baud, proc), _scripted(True, script, baud, proc)
         assert fast == slow, (trial, script)
+        # the wire (built from runs) is every character the hook saw, in the same order
+        assert [w[:3] for w in fast[1]] == fast[0]
         # a hook that leaves every character alone is no hook: attached only while a fault
         # is pending, it sees fewer characters, and the wire and the events are the same
         detached = _scripted(True, script, baud, proc, hook_while_faults=True)
