@@ -419,19 +419,24 @@ def test_jobs_queue_until_idle():
 
 
 # ------------------------------------------------------------------ runs carried at once
-def _scripted(streams: bool, script, baud, proc):
+def _scripted(streams: bool, script, baud, proc, hook_while_faults: bool = False):
     """Run ``script`` (a list of actions) on a fresh pair; with ``streams`` False the link
-    carries every character as an event of its own. Returns everything observable."""
+    carries every character as an event of its own; with ``hook_while_faults`` the hook is
+    attached only while a fault is pending (as the level-1 fuzzer does). Returns everything
+    observable."""
     faults: list[str] = []
     seen: list[tuple] = []
 
     def hook(w):
         seen.append((round(w.start, 9), w.src, w.byte))
-        return faults.pop(0) if faults and w.byte not in (STX,) else DELIVER
+        fate = faults.pop(0) if faults and w.byte not in (STX,) else DELIVER
+        if hook_while_faults and not faults:
+            link.hook = None
+        return fate
 
     a = Station3964(Params3964(procedure=proc, priority="low", baud_rate=baud, cdt_ms=20, adt_ms=200), name="a")
     b = Station3964(Params3964(procedure=proc, priority="high", baud_rate=baud, cdt_ms=20, adt_ms=200), name="b")
-    link = Link(a, b, hook=hook, echo={"b"})
+    link = Link(a, b, hook=None if hook_while_faults else hook, echo={"b"})
     link._streams = link._group_instant = streams
     link.power_on(0.0)
     for what, arg in script:
@@ -441,9 +446,12 @@ def _scripted(streams: bool, script, baud, proc):
             link.run_until(link.now + arg)
         elif what == "fault":
             faults.append(arg)
+            link.hook = hook
         elif what == "break":
             link.inject_break(b, at=link.now)
     link.run_until_quiet(link.now + 30.0)
+    length = link.wire_length       # counted before the wire is built from its runs
+    assert length == len(link.wire)
     return (seen, [(round(w.start, 9), w.src, w.byte, w.fate) for w in link.wire],
             [(n, type(e).__name__, round(e.time, 9), getattr(e, "code", getattr(e, "payload", None)))
              for n, e in link.events],
@@ -459,7 +467,9 @@ def test_runs_carried_at_once_change_nothing():
     with a hook too."""
     import random
     rnd = random.Random(3964)
-    for trial in range(80):
+    for trial in range(120):
+        # the last trials with dense control characters: DLE pairs in runs, lone DLEs
+        dense = 0.05 if trial < 80 else 0.4
         proc = rnd.choice(["3964", "3964R"])
         baud = rnd.choice([9600, 19200, 2400, None])
         script = []
@@ -467,7 +477,7 @@ def test_runs_carried_at_once_change_nothing():
             kind = rnd.random()
             if kind < 0.45:
                 size = rnd.choice([1, 5, 64, 300, 1024])
-                data = bytes(rnd.choice([0x10, 0x02, 0x03, 0x15]) if rnd.random() < 0.05 else rnd.randrange(256)
+                data = bytes(rnd.choice([0x10, 0x02, 0x03, 0x15]) if rnd.random() < dense else rnd.randrange(256)
                              for _ in range(size))
                 script.append(("request", (rnd.choice("ab"), data)))
             elif kind < 0.75:
@@ -478,6 +488,13 @@ def test_runs_carried_at_once_change_nothing():
                 script.append(("break", None))
         slow, fast = _scripted(False, script, baud, proc), _scripted(True, script, baud, proc)
         assert fast == slow, (trial, script)
+        # the wire (built from runs) is every character the hook saw, in the same order
+        assert [w[:3] for w in fast[1]] == fast[0]
+        # a hook that leaves every character alone is no hook: attached only while a fault
+        # is pending, it sees fewer characters, and the wire and the events are the same
+        detached = _scripted(True, script, baud, proc, hook_while_faults=True)
+        assert detached[1:] == fast[1:], (trial, script)
+        assert set(detached[0]) <= set(fast[0])
 
 
 def test_a_long_block_at_9600_is_carried_in_few_steps():
@@ -492,3 +509,15 @@ def test_a_long_block_at_9600_is_carried_in_few_steps():
     assert link.run_until_quiet(60)
     assert [e.payload for e in link.events_of(b, Delivered)] == [payload[:1024].replace(b"\x10", b"\x11")]
     assert sum(calls) >= 1000 and len(calls) <= 10
+    # the same with the DLEs left in: each is sent doubled and the pair is taken with the run
+    calls.clear()
+    link.request(a, payload[:1024])
+    assert link.run_until_quiet(120)
+    assert [e.payload for e in link.events_of(b, Delivered)][-1] == payload[:1024]
+    assert sum(calls) >= 1000 and len(calls) <= 10
+    # a block of nothing but DLE (2048 characters of data on the line) too
+    calls.clear()
+    link.request(a, bytes([DLE]) * 1024)
+    assert link.run_until_quiet(180)
+    assert [e.payload for e in link.events_of(b, Delivered)][-1] == bytes([DLE]) * 1024
+    assert sum(calls) >= 2000 and len(calls) <= 10

@@ -16,8 +16,11 @@ from __future__ import annotations
 
 import heapq
 from dataclasses import dataclass, field
+from functools import partial
+from itertools import repeat
 from math import inf
-from typing import Any, Callable
+from operator import add, mul
+from typing import Any, Callable, Iterator, NamedTuple
 
 from .app import Host
 from .events import Event
@@ -28,14 +31,39 @@ NULL_MODEM = {"rts": "cts", "dtr": "dsr"}
 DELIVER, DROP, CORRUPT, DUPLICATE = "deliver", "drop", "corrupt", "duplicate"
 
 
-@dataclass(frozen=True, slots=True)
-class WireByte:
+class WireByte(NamedTuple):
     """One character on the line: started at ``start`` by ``src``, value ``byte``;
-    ``fate`` is what the link did with it."""
+    ``fate`` is what the link did with it. A named tuple: a link records hundreds of
+    thousands of them in a fuzzing run, and a tuple is the cheapest object to make."""
 
     start: float
     src: str
     byte: int
+    fate: str = DELIVER
+
+
+#: WireByte from a tuple of its four fields, what WireByte._make does without its Python frame
+_wire_byte_of = partial(tuple.__new__, WireByte)
+
+
+def _wire_bytes(start: float, src: str, data: bytes, char: float) -> Iterator[WireByte]:
+    """The characters of ``data`` sent back to back by ``src`` from ``start``, ``char``
+    seconds apart (the i-th at ``start + i * char``), left alone by the link; made in
+    bulk (no Python code runs per character)."""
+    n = len(data)
+    starts = repeat(start, n) if char == 0 else map(add, repeat(start, n), map(mul, range(n), repeat(char, n)))
+    return map(_wire_byte_of, zip(starts, repeat(src, n), data, repeat(DELIVER, n)))
+
+
+class WireRun(NamedTuple):
+    """Characters on the line as the link records them: ``data`` started by ``src`` back to
+    back from ``start``, ``char`` seconds apart (the i-th at ``start + i * char``), each
+    with ``fate``. A character a hook did something with is a run of its own."""
+
+    start: float
+    src: str
+    data: bytes
+    char: float
     fate: str = DELIVER
 
 
@@ -50,7 +78,6 @@ class Link:
     #: called for every byte put on the line; returns DELIVER, DROP, CORRUPT or DUPLICATE
     hook: Callable[[WireByte], str] | None = None
     now: float = 0.0
-    wire: list[WireByte] = field(default_factory=list)
     events: list[tuple[str, Event]] = field(default_factory=list)
     max_steps_per_instant: int = 100_000
     record_wire: bool = True
@@ -66,6 +93,12 @@ class Link:
         if self.a.name == self.b.name:
             raise ValueError("the two stations need different names")
         self._flight: list[tuple[float, int, str, str, int]] = []  # (arrive, seq, dest, kind, value)
+        #: every character put on the line (with ``record_wire``), as runs in line order;
+        #: :attr:`wire` is the same one character at a time
+        self.wire_runs: list[WireRun] = []
+        self._wire: list[WireByte] = []
+        self._wire_made = 0       # runs already in _wire
+        self._wire_pending = 0    # characters of the runs not yet in _wire
         self._seq = 0
         self._peer = {self.a.name: self.b, self.b.name: self.a}
         self._hosts = {st.name: self.hosts.get(st.name)
@@ -193,6 +226,10 @@ class Link:
         return False
 
     # -- internals -------------------------------------------------------------------
+    def _record(self, start: float, src: str, data: bytes, char: float, fate: str = DELIVER) -> None:
+        self.wire_runs.append(WireRun(start, src, data, char, fate))
+        self._wire_pending += len(data)
+
     def _push(self, at: float, dest: str, kind: str, value: int) -> None:
         self._seq += 1
         heapq.heappush(self._flight, (at, self._seq, dest, kind, value))
@@ -229,13 +266,15 @@ class Link:
             return None
         hook, record = self.hook, self.record_wire
         popped = m
-        if hook is not None or record:
+        if hook is None:
+            if record:
+                self._record(start, tx.name, data[:m], char)
+        else:
             for i in range(m):
                 at = start + i * char
-                w = WireByte(at, tx.name, data[i])
-                fate = DELIVER if hook is None else hook(w)
+                fate = hook(WireByte(at, tx.name, data[i]))
                 if record:
-                    self.wire.append(w if fate == DELIVER else WireByte(at, tx.name, data[i], fate))
+                    self._record(at, tx.name, data[i:i + 1], char, fate)
                 if fate != DELIVER:
                     # this character goes its own way, as the loop would send it; the run
                     # handed over ends before it
@@ -253,7 +292,7 @@ class Link:
         return t + m * char
 
     def _collect(self, t: float) -> None:
-        record, wire = self.record_wire, self.wire
+        record = self.record_wire
         for st, host, dest, signals in self._ends:
             runs = st.pop_output_runs(t)
             if runs:
@@ -264,7 +303,7 @@ class Link:
                     # no line timing and nothing to tamper with: whole runs arrive at once
                     for start, data in runs:
                         if record:
-                            self.wire.extend(WireByte(start, st.name, b) for b in data)
+                            self._record(start, name, data, 0)
                         self._push(start, dest, "bytes", data)
                 elif char == 0 and self._group_instant:
                     # no line timing with a hook: the characters a run keeps intact (and a
@@ -274,10 +313,9 @@ class Link:
                     for start, data in runs:
                         keep = bytearray()
                         for byte in data:
-                            w = WireByte(start, name, byte)
-                            fate = hook(w)
+                            fate = hook(WireByte(start, name, byte))
                             if record:
-                                wire.append(w if fate == DELIVER else WireByte(start, name, byte, fate))
+                                self._record(start, name, bytes((byte,)), 0, fate)
                             if fate == DELIVER:
                                 keep.append(byte)
                             elif fate == DUPLICATE:
@@ -291,17 +329,16 @@ class Link:
                             self._push(start, dest, "bytes", bytes(keep))
                 else:
                     for start, data in runs:
+                        if hook is None and record:
+                            self._record(start, name, data, char)
                         for i, byte in enumerate(data):
                             at = start + i * char
                             if hook is None:
                                 fate = DELIVER
-                                if record:
-                                    wire.append(WireByte(at, name, byte))
                             else:
-                                w = WireByte(at, name, byte)
-                                fate = hook(w)
+                                fate = hook(WireByte(at, name, byte))
                                 if record:
-                                    wire.append(w if fate == DELIVER else WireByte(at, name, byte, fate))
+                                    self._record(at, name, bytes((byte,)), char, fate)
                             if fate == DROP:
                                 continue
                             kind = "invalid" if fate == CORRUPT else "byte"
@@ -322,6 +359,28 @@ class Link:
                         self._push(at, peer.name, NULL_MODEM[out], value)
 
     # -- views -----------------------------------------------------------------------
+    @property
+    def wire(self) -> list[WireByte]:
+        """Every character put on the line (with ``record_wire``), in line order, one
+        WireByte each. Built from :attr:`wire_runs` when asked for: a fuzzing run puts
+        hundreds of thousands of characters on the line and looks at few of them. A caller
+        may clear the list; later characters are added to it."""
+        runs = self.wire_runs
+        if self._wire_made < len(runs):
+            wire = self._wire
+            for run in runs[self._wire_made:]:
+                if run.fate == DELIVER:
+                    wire.extend(_wire_bytes(run.start, run.src, run.data, run.char))
+                else:
+                    wire.append(WireByte(run.start, run.src, run.data[0], run.fate))
+            self._wire_made, self._wire_pending = len(runs), 0
+        return self._wire
+
+    @property
+    def wire_length(self) -> int:
+        """``len(link.wire)`` without building it."""
+        return len(self._wire) + self._wire_pending
+
     def transcript(self) -> list[tuple[str, bytes]]:
         """The wire as runs of consecutive bytes per sender: [(name, bytes), ...]."""
         runs: list[tuple[str, bytearray]] = []

@@ -50,6 +50,7 @@ _DECIDE = {d: "_d_" + d.lower() for d in T.DECISIONS}
 _CLASS = [T.OTHER] * 256
 _CLASS[STX], _CLASS[DLE], _CLASS[ETX], _CLASS[NAK] = T.STX, T.DLE, T.ETX, T.NAK
 _END = bytes((DLE, ETX))
+_PAIR, _ONE_DLE = bytes((DLE, DLE)), bytes((DLE,))
 _EPS = 1e-9
 
 
@@ -81,6 +82,35 @@ def _stores_in_receive(cls) -> bool:
             and cls._store_run is Station3964._store_run)
 
 
+def _undoubles_in_receive(cls) -> bool:
+    """Whether ``cls`` also takes a doubled DLE in state RECEIVE with the plain table rows
+    and actions (DLE: ``dle_received`` to WAIT_ETX; there DLE: ``store_doubled_dle`` back to
+    RECEIVE), so that a run of data with DLE pairs in it can be stored at once (one DLE per
+    pair kept, both in the BCC). A broken variant that changes any of it is driven one
+    character at a time."""
+    first, second = cls.TABLE[T.RECEIVE][T.DLE], cls.TABLE[T.WAIT_ETX][T.DLE]
+    return (cls._plain_receive
+            and first.action == "dle_received" and first.target == T.WAIT_ETX
+            and second.action == "store_doubled_dle" and second.target == T.RECEIVE
+            and cls._a_dle_received is Station3964._a_dle_received
+            and cls._a_store_doubled_dle is Station3964._a_store_doubled_dle
+            and cls._start_timer is Station3964._start_timer and cls._input is Station3964._input)
+
+
+def _plain_end(data: bytes, i: int) -> int:
+    """Where the leading characters of ``data[i:]`` that are data other than DLE or DLE DLE
+    pairs end: at the first DLE not followed by a second one (or at the end of ``data``)."""
+    n = len(data)
+    while True:
+        j = data.find(DLE, i)
+        if j < 0:
+            return n
+        if j + 1 < n and data[j + 1] == DLE:
+            i = j + 2
+        else:
+            return j
+
+
 #: Fig. 2-12 "W > 5 / W <= 5": the receptions of one block the figure allows (the alternative of A18)
 FIG_2_12_RECEPTIONS = 6
 
@@ -109,6 +139,7 @@ class Station3964:
     def __init_subclass__(cls, **kw):
         super().__init_subclass__(**kw)
         cls._plain_receive = _stores_in_receive(cls)
+        cls._plain_pairs = _undoubles_in_receive(cls)
 
     def __init__(self, params: Params3964 | None = None, readings: Readings = READINGS,
                  *, name: str = "station", trace: bool = False, explain: bool = False):
@@ -179,14 +210,19 @@ class Station3964:
         cls = _CLASS
         i, n = 0, len(data)
         fast = self.trace is None and self._plain_receive
+        pairs = fast and self._plain_pairs
         while i < n:
             if fast and self.state is T.RECEIVE:
-                # TABLE[RECEIVE][STX/ETX/NAK/OTHER] = store, for a whole run without DLE
-                j = data.find(DLE, i)
-                if j < 0:
-                    j = n
+                # TABLE[RECEIVE][STX/ETX/NAK/OTHER] = store, for a whole run without DLE,
+                # and with DLE DLE pairs in it where the DLE rows are the plain ones too
+                if pairs and self._tx_done_at == inf:
+                    j = _plain_end(data, i)
+                else:
+                    j = data.find(DLE, i)
+                    if j < 0:
+                        j = n
                 if j > i:
-                    self._store_run(data[i:j])
+                    self._store_stuffed(data[i:j])
                     i = j
                     continue
             b = data[i]
@@ -201,16 +237,20 @@ class Station3964:
         """How many leading characters of ``data`` (the first complete at ``now``, each next
         one ``spacing`` later) this station would only store: no output, no event, no change
         of state, and none of its own deadlines between them. In state RECEIVE (Fig. 2-12
-        "wait to receive") that is every character up to the first DLE, as long as they come
-        closer together than CDT. A query: nothing changes. Links use it, with
+        "wait to receive") that is every character up to the first DLE that is not doubled
+        (a DLE DLE pair is stored as one DLE, "dual DLE"), as long as they come closer
+        together than CDT. A query: nothing changes. Links use it, with
         :meth:`receive_run`, to hand over a block at 9600 baud in one call instead of one
         event per character."""
         if (self.state is not T.RECEIVE or not self._plain_receive or self.trace is not None or self._tx
                 or self._events or now < self.now - _EPS or self._tx_done_at != inf
                 or self._timer_at <= now + _EPS):
             return 0
-        n = data.find(DLE)
-        n = len(data) if n < 0 else n
+        if self._plain_pairs:
+            n = _plain_end(data, 0)     # a DLE DLE pair is stored as one DLE
+        else:
+            n = data.find(DLE)
+            n = len(data) if n < 0 else n
         # the character timer restarts with each character; the next one must come first
         return n if spacing < self._cdt + self._grace - _EPS else min(n, 1)
 
@@ -222,7 +262,7 @@ class Station3964:
         if n and self.quiet_run(now, data, spacing) == n:
             self._at(now, strict=True)
             self.now = max(self.now, now + (n - 1) * spacing)
-            self._store_run(bytes(data))
+            self._store_stuffed(bytes(data))
             return
         for i, b in enumerate(data):
             self.receive(now + i * spacing, b)
@@ -286,9 +326,12 @@ class Station3964:
         """The earliest time at which the station wants :meth:`handle_timer` (a timer, the
         end of a transmission, or the start of a byte to transmit); None when it waits
         only for input."""
-        t = min(self._timer_at, self._tx_done_at)
-        if self._tx:
-            t = min(t, self._tx[0][0])
+        t, done = self._timer_at, self._tx_done_at
+        if done < t:
+            t = done
+        tx = self._tx
+        if tx and tx[0][0] < t:
+            t = tx[0][0]
         return None if t == inf else t
 
     def handle_timer(self, now: float) -> None:
@@ -307,8 +350,10 @@ class Station3964:
     def pop_output_runs(self, now: float | None = None) -> list[tuple[float, bytes]]:
         """Like :meth:`pop_output`, as runs (start of the first byte, bytes) of characters
         sent back to back."""
-        out = []
         tx = self._tx
+        if not tx:
+            return []
+        out = []
         limit = inf if now is None else now + _EPS
         char = self._char
         while tx and tx[0][0] <= limit:
@@ -410,7 +455,8 @@ class Station3964:
             else:
                 name, self._timer, self._timer_at = self._timer, None, inf
                 self._input(name)
-        self.now = max(self.now, now)
+        if now > self.now:
+            self.now = now
 
     def _start_timer(self, name: str, duration: float, since: float | None = None) -> None:
         # a timer measured from the end of our own transmission moves with it (delay_output)
@@ -797,6 +843,19 @@ class Station3964:
         self._x ^= _xor(run)
         self._timer, self._timer_at = T.T_CDT, self.now + self._cdt + self._grace
 
+    def _store_stuffed(self, run: bytes) -> None:
+        """Store a run received in state RECEIVE: data other than DLE, and DLE DLE pairs
+        where the station takes them with the plain rows (``_plain_pairs``). A pair is what
+        ``_a_dle_received`` then ``_a_store_doubled_dle`` make of it: one DLE kept, both in
+        the BCC, the character timer restarted (not measured from a transmission)."""
+        if DLE not in run:
+            self._store_run(run)
+            return
+        x = self._x ^ _xor(run)
+        self._store_run(run.replace(_PAIR, _ONE_DLE))
+        self._x = x
+        self._timer_from_tx = False
+
     def _a_store(self, v: int) -> None:
         self._store(v)
         self._timer_started = True
@@ -890,3 +949,4 @@ class Station3964:
 
 
 Station3964._plain_receive = _stores_in_receive(Station3964)
+Station3964._plain_pairs = _undoubles_in_receive(Station3964)
