@@ -9,7 +9,6 @@ waits. With the ``sim:`` transport the same code runs in virtual time.
 from __future__ import annotations
 
 import collections
-
 import time
 from dataclasses import dataclass, replace
 from typing import Callable, Iterable
@@ -231,7 +230,7 @@ class CaseRun:
         self.iut_wait = max(self.iut_wait, w - waits[0][1])
         if dt <= 0:
             return
-        if dw >= 0.5 * dt:     # (a child that ended takes its wait along: dw < 0, no stall)
+        if dw >= 0.5 * dt:
             self._starved += dw
             self.iut_stall = max(self.iut_stall, self._starved)
         else:
