@@ -1034,6 +1034,9 @@ class LineAnalysis:
         self.complete = False
         self.known_until = -inf
         self.rest = kit.rest_gap() + self.resolution
+        #: how far from a difference a read of unknown order or lost data may have misled
+        #: the model: the resolution and two character times
+        self.order_span = self.resolution + 2 * max(kit.char(s) for s in SEATS)
         self.horizon = 4 * self.rest + 1.0
         # both seats' stations are followed (what a CP 341 in each seat raises is part of every
         # finding); only the judged seats' differences are findings
@@ -1225,7 +1228,7 @@ class LineAnalysis:
         if f.grade != R.FAIL:
             return f
         near = self._gaps_near(f.t, since)
-        shared = None if f.order_free else self._shared_read_near(f.t, since)
+        shared = None if near or f.order_free else self._shared_read_near(f.t, since)
         if near:
             f.grade = R.INFORMATIONAL
             f.notes.append(f"the recording lost data {1000 * (near[0][0] - f.t):+.3f} ms from here "
@@ -1248,7 +1251,7 @@ class LineAnalysis:
         later whose late characters, stamped back from their read, reach back to ``t``."""
         if since is None:
             return [g for g in self.gaps if abs(g[0] - t) <= self.rest]
-        span = self.resolution + 2 * max(self.kit.char(s) for s in SEATS)
+        span = self.order_span
         out = []
         for g in self.gaps:
             if g[0] <= t:
@@ -1277,7 +1280,7 @@ class LineAnalysis:
         reads = self.shared_reads
         if not reads:
             return None
-        span = self.resolution + 2 * max(self.kit.char(s) for s in SEATS)
+        span = self.order_span
         # a read before the rest point was taken in before the model rested: settled
         lo = t - span if since is None else min(t - span, since)
         i = bisect.bisect_right(reads, lo)

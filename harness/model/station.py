@@ -476,18 +476,8 @@ class Station3964:
         sent (a real-time driver that wrote late): what is still scheduled, the end of the
         transmission, and any timer measured from it move by ``delta``, as they would with a
         UART that started late."""
-        if delta <= 0:
-            return
-        for run in self._tx:
-            run[0] += delta
-        self._tx_free_at += delta
-        self._popped_end += delta
-        if self._tx_done_at != inf:
-            self._tx_done_at += delta
-            self._end_seq_at += delta
-            self._dle_etx_done_at += delta
-        if self._timer is not None and self._timer_from_tx:
-            self._timer_at += delta
+        if delta > 0:
+            self._shift_output(delta)
 
     def advance_output(self, delta: float) -> float:
         """The line carried what the station sent up to ``delta`` seconds sooner than
@@ -505,17 +495,22 @@ class Station3964:
             delta = min(delta, self._timer_at - now)
         if delta <= 0:
             return 0.0
-        for run in self._tx:
-            run[0] -= delta
-        self._tx_free_at -= delta
-        self._popped_end -= delta
-        if self._tx_done_at != inf:
-            self._tx_done_at -= delta
-            self._end_seq_at -= delta
-            self._dle_etx_done_at -= delta
-        if self._timer is not None and self._timer_from_tx:
-            self._timer_at -= delta
+        self._shift_output(-delta)
         return delta
+
+    def _shift_output(self, delta: float) -> None:
+        """Move what is still scheduled to transmit, the end of the transmission and a timer
+        measured from it by ``delta`` seconds (later when positive)."""
+        for run in self._tx:
+            run[0] += delta
+        self._tx_free_at += delta
+        self._popped_end += delta
+        if self._tx_done_at != inf:
+            self._tx_done_at += delta
+            self._end_seq_at += delta
+            self._dle_etx_done_at += delta
+        if self._timer is not None and self._timer_from_tx:
+            self._timer_at += delta
 
     # ================================================================== transmitter
     def _send(self, data: bytes) -> float:

@@ -174,6 +174,14 @@ def _leading_to(actions: list[str], inp: str, element: Any) -> Any:
     return None
 
 
+def _dles_before(items, k: int) -> int:
+    """How many DLE characters come right before ``items[k]``."""
+    n = 0
+    while k - 1 - n >= 0 and items[k - 1 - n].kind == "byte" and items[k - 1 - n].value == DLE:
+        n += 1
+    return n
+
+
 def _joined(first: str, second: str) -> str:
     """Two references as one, each part once."""
     parts = [x.strip() for x in first.split(";") + second.split(";") if x.strip()]
@@ -513,17 +521,10 @@ class Analyzer3964(ProcedureAnalyzer):
         after a data DLE (an odd run of DLEs) waiting for ETX, after DLE ETX (3964R) waiting
         for the BCC, else receiving data."""
         inputs, i = run.judge.inputs, run.i_in
-
-        def dles_before(k: int) -> int:
-            n = 0
-            while k - 1 - n >= 0 and inputs[k - 1 - n].kind == "byte" and inputs[k - 1 - n].value == DLE:
-                n += 1
-            return n
-
-        if i and dles_before(i) % 2:
+        if i and _dles_before(inputs, i) % 2:
             return T.WAIT_ETX
         last = inputs[i - 1] if i else None
-        if (last is not None and last.kind == "byte" and last.value == ETX and dles_before(i - 1) % 2
+        if (last is not None and last.kind == "byte" and last.value == ETX and _dles_before(inputs, i - 1) % 2
                 and self.params[run.judge.seat].has_bcc):
             return T.WAIT_BCC
         return T.RECEIVE
@@ -585,10 +586,7 @@ class Analyzer3964(ProcedureAnalyzer):
             if x.kind == "break":
                 return None
             if x.kind == "invalid":
-                n = 0
-                while k - 1 - n >= 0 and inputs[k - 1 - n].kind == "byte" and inputs[k - 1 - n].value == DLE:
-                    n += 1
-                return "3964.RX.CHARACTER-ERROR-IN-END" if n % 2 else "3964.RX.CHARACTER-ERROR"
+                return "3964.RX.CHARACTER-ERROR-IN-END" if _dles_before(inputs, k) % 2 else "3964.RX.CHARACTER-ERROR"
             k -= 1
         return None
 
