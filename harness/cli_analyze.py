@@ -8,6 +8,9 @@ import sys
 import time
 from pathlib import Path
 
+from . import priority
+from .priority import MODES as PRIORITY_MODES
+
 #: schemes of ``--iut`` URLs whose transport starts a fresh IUT for every case
 _RESTARTING = ("exec:", "pty:", "sim:")
 _RUN_NOTE = re.compile(r"^run of \d+ cases? against (\S.*)$")
@@ -63,6 +66,9 @@ def add_commands(sub) -> None:
     m.add_argument("--resolution-ms", type=float, default=None, metavar="MS",
                    help="the timing resolution itself (default: --fifo character times + --latency-ms)")
     m.add_argument("--duration", type=float, default=None, metavar="SECONDS", help="stop after this long")
+    m.add_argument("--priority", choices=PRIORITY_MODES, default="auto",
+                   help="the reader thread's scheduling class: auto (default) takes the real-time class where the "
+                        "system permits it, realtime insists on it, normal never asks; the analysis stays normal")
     m.set_defaults(func=cmd_monitor)
 
 
@@ -311,11 +317,15 @@ def cmd_monitor(args) -> int:
     try:
         with open(path, "wb" if fmt == "pcap" else "w", **({} if fmt == "pcap" else {"encoding": "utf-8"})) as fp:
             writer = C.PcapWriter(fp, started) if fmt == "pcap" else C.HexLogWriter(fp, meta)
-            end = mon.run(line, writer, stop=lambda: bool(interrupted), duration=args.duration,
-                          resolution=resolution)
+            with priority.harness(args.priority, this_thread=False) as how:
+                end = mon.run(line, writer, stop=lambda: bool(interrupted), duration=args.duration,
+                              resolution=resolution)
             writer.close(end)
     except OSError as exc:
         print(f"ptpcert monitor: {path}: {exc.strerror}", file=sys.stderr)
+        return 2
+    except priority.PriorityError as exc:
+        print(f"ptpcert monitor: {exc}", file=sys.stderr)
         return 2
     finally:
         signal.signal(signal.SIGTERM, old)
@@ -327,6 +337,7 @@ def cmd_monitor(args) -> int:
     result = A.to_results(an, profile=setup.profile_dict(line.judged, resolution),
                           notes=[f"timing resolution {resolution * 1000:.3f} ms (timestamps taken when a read returned)"])
     result.iut = f"seat a: {args.a}, seat b: {args.b}"
+    result.harness_scheduling = how
     result.profile_path = f"seat a: {setup.paths['a']}; seat b: {setup.paths['b']}"
     if mon.stalls:
         print(f"ptpcert monitor: {mon.stalls} time(s) the monitor was not scheduled in time: the timing of what "

@@ -9,6 +9,7 @@ import sys
 
 from . import __version__
 from .cli import number
+from .priority import MODES as PRIORITY_MODES
 
 #: the bounds of the numeric options (the messages name them)
 TOLERANCE_MS = number(float, 0, 10_000, "milliseconds")
@@ -64,6 +65,10 @@ def add_commands(sub) -> None:
                         "if one attempt passes (default 4; 1: every failure stands; at most 100)")
     r.add_argument("--max-failures", type=MAX_FAILURES, default=0, metavar="N",
                    help="stop after N failed cases (the rest are reported as not run)")
+    r.add_argument("--priority", choices=PRIORITY_MODES, default="auto",
+                   help="the harness's scheduling class: auto (default) takes the real-time class for its timing "
+                        "threads where the system permits it, realtime insists on it, normal never asks; the IUT "
+                        "stays in the normal class")
     r.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     r.set_defaults(func=cmd_run)
 
@@ -204,6 +209,7 @@ class Interrupts:
 def cmd_run(args) -> int:
     from . import report as rep
     from . import results as R
+    from .priority import PriorityError, harness as harness_priority
     from .runner import RunOptions, Runner
     from .scenario import VectorError, load_vector_sets, vector_set_hash
     from .suite import check_expected_failures, load_suite
@@ -212,6 +218,13 @@ def cmd_run(args) -> int:
     profile = _load_profile("run", args.profile)
     if profile is None:
         return 2
+    if getattr(args, "priority", "normal") == "realtime":
+        try:   # before anything runs: a run that cannot have what it insists on is bad usage
+            with harness_priority("realtime"):
+                pass
+        except PriorityError as exc:
+            print(f"ptpcert run: {exc}", file=sys.stderr)
+            return 2
     try:
         vectors = load_vector_sets(args.vectors, only=args.vectors_only)
         everything = load_suite(profile, vectors)
@@ -272,7 +285,11 @@ def cmd_run(args) -> int:
                 more = {"jobs": jobs} if jobs > 1 else {}
                 if len(pool) > 1:
                     more["pool"] = pool
-                Runner(factory, profile, opts).run(cases, result, progress, max_failures=args.max_failures, **more)
+                # in virtual time (sim:) there is no timing to keep: no reason to ask for a class
+                virtual = all(u.startswith("sim:") for u in urls)
+                with harness_priority("normal" if virtual else getattr(args, "priority", "normal")) as how:
+                    result.harness_scheduling = "virtual time (sim:)" if virtual else how
+                    Runner(factory, profile, opts).run(cases, result, progress, max_failures=args.max_failures, **more)
             interrupts.disarm()
         except KeyboardInterrupt:
             result.interrupted = True

@@ -903,6 +903,8 @@ def _header(run: R.RunResult) -> str:
             ("profile file", run.profile_path or "—"),
             ("vector set", run.vector_set or "—"),
             ("vector set hash", run.vector_set_hash or "—")]
+    if run.harness_scheduling:
+        info.append(("harness scheduling", run.harness_scheduling))
     out.append('<div class="cols"><div><h2>Run</h2>' + _table(info) + "</div>"
                '<div><h2>IUT profile</h2>' + _table(_profile_rows(run.profile)) + "</div></div></header>")
     return "".join(out)

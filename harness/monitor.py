@@ -17,6 +17,7 @@ import time
 from typing import Any, Callable
 
 from . import capture as C
+from . import priority
 from .iut import ParmrkDecoder
 
 
@@ -134,6 +135,10 @@ class Monitor:
         sys.setswitchinterval(0.001)     # the reader gets its turn within a millisecond
 
         def reader() -> None:
+            with priority.thread():     # the real-time class where the monitor was granted it
+                read_all()
+
+        def read_all() -> None:
             fds = {p.fd: s for s, p in self.ports.items() if p.fd is not None}
             polled = [s for s, p in self.ports.items() if p.fd is None]
             try:

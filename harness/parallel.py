@@ -31,6 +31,7 @@ import threading
 import time
 from typing import Callable, Sequence
 
+from . import priority
 from . import results as R
 
 #: what a progress callback gets: (cases done in order, cases in all, the case, cases running)
@@ -131,7 +132,8 @@ class ParallelRun:
 
         def work(w: int) -> None:
             try:
-                work_on(w)
+                with priority.thread():     # the run's scheduling class (a thread begins in the normal one)
+                    work_on(w)
             finally:
                 with self._lock:
                     self._alive -= 1

@@ -211,7 +211,10 @@ def timer_tolerance_text(run: R.RunResult) -> str:
 
 def summary(run: R.RunResult) -> str:
     counts = run.counts()
-    lines = ["", timer_tolerance_text(run), "", "verdict        cases"]
+    lines = ["", timer_tolerance_text(run)]
+    if run.harness_scheduling:
+        lines.append(f"harness scheduling: {run.harness_scheduling}")
+    lines += ["", "verdict        cases"]
     for v in R.VERDICTS:
         if counts.get(v):
             lines.append(f"  {v:<13}{counts[v]:>6}")

@@ -156,6 +156,8 @@ class RunResult:
     interrupted: bool = False
     wall_time: float = 0.0
     html_path: str = ""
+    #: the harness's scheduling class for the run (:mod:`ptpcert.priority`), for people
+    harness_scheduling: str = ""
     schema: str = SCHEMA
     #: the failures grouped by root cause (see :func:`root_causes`); empty while a run is
     #: under way (the views then compute them), filled in the JSON so that a re-rendered

@@ -41,6 +41,7 @@ import threading
 import time
 from dataclasses import dataclass
 
+from .. import priority
 from .base import BREAK, CHAR_ERROR, NETWORK, CloseInfo, Transport, TransportError
 
 #: the transport carries BREAK / character errors as real line conditions (not PARMRK marks)
@@ -188,6 +189,7 @@ class SerialLine:
         stamp each chunk when it is handed over."""
         port = self.port
         while True:
+            priority.sync()     # the run's scheduling class, for the time of the cases
             try:
                 first = port.read(1)
                 t = time.monotonic()
