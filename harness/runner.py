@@ -9,7 +9,9 @@ waits. With the ``sim:`` transport the same code runs in virtual time.
 from __future__ import annotations
 
 import collections
+import os
 import time
+import weakref
 from dataclasses import dataclass, replace
 from typing import Callable, Iterable
 
@@ -62,6 +64,30 @@ def realtime_tolerance(proc, params: Any, late_ms: float = 50.0) -> Tolerance:
         late_rel=0.25,
         stimulus=max(0.002, 0.15 * min(proc.edge_timers(params))),
     )
+
+
+class OwnCpuWait:
+    """Linux: how long the thread that created it (the harness's) has waited for a CPU so
+    far, in seconds (/proc/thread-self/schedstat, second field: time runnable on a run queue
+    but not running), read through a descriptor kept open (a few microseconds a look). A
+    harness that waited between two looks read the IUT's bytes and sent its own that much
+    late, whatever its clock says. Calling it gives None where /proc does not tell."""
+
+    def __init__(self) -> None:
+        try:
+            self.fd: int | None = os.open("/proc/thread-self/schedstat", os.O_RDONLY)
+        except OSError:
+            self.fd = None
+        else:
+            weakref.finalize(self, os.close, self.fd)
+
+    def __call__(self) -> float | None:
+        if self.fd is None:
+            return None
+        try:
+            return int(os.pread(self.fd, 64, 0).split()[1]) / 1e9
+        except (OSError, ValueError, IndexError):
+            return None
 
 
 class TimingFault(RuntimeError):
@@ -169,6 +195,8 @@ class CaseRun:
         #: moment, never long at once
         self.iut_wait = 0.0
         self._cpu: tuple[float, float | None] = (0.0, None)
+        self._own: float | None = None      # the harness thread's run-queue wait at the last look
+        self._own_wait = OwnCpuWait() if self.realtime else (lambda: None)
         self._waits: collections.deque = collections.deque()     # (time, cumulative wait)
         self._starved = 0.0
         #: per stimulus (a send, character error or BREAK step): (step, IUT bytes read
@@ -196,6 +224,14 @@ class CaseRun:
             self.last_look = items[-1][0] if items else self.tr.now()
             # a read returns by its deadline: later, the machine stalled this process
             self.max_stall = max(self.max_stall, self.tr.now() - until)
+            # ... and a read that returned in time may still have been taken late: the harness
+            # waited for a CPU after its input came (or while it handled it), and stamped the
+            # IUT's bytes that much after they arrived
+            own = self._own_wait()
+            if own is not None:
+                if self._own is not None:
+                    self.max_stall = max(self.max_stall, own - self._own)
+                self._own = own
             self._sample_iut()
         else:
             items = self.tr.read(deadline)

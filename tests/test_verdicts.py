@@ -271,6 +271,19 @@ def stalling_factory(at_byte: int, stall: float, **options):
     return Factory(make, base.capabilities, virtual=False)
 
 
+@pytest.fixture(autouse=True)
+def _harness_never_waits_for_a_cpu(request, monkeypatch):
+    """The transports of these tests pretend to be real-time over the model in virtual
+    time: the harness's own run-queue wait (the test process's, under whatever load the
+    machine has) is not part of what they simulate. A test that wants it sets its own.
+    Tests with real processes (marked realtime) measure the real one."""
+    import ptpcert.runner as runner_mod
+
+    if request.node.get_closest_marker("realtime"):
+        return
+    monkeypatch.setattr(runner_mod, "OwnCpuWait", type("Waits", (_HarnessWaits,), {"jump": 0.0}))
+
+
 def run_stalled(case_id, factory, **options):
     from ptpcert.runner import RunOptions, Runner
     from ptpcert.scenario import load_vector_sets
@@ -380,6 +393,42 @@ def test_an_iut_process_kept_from_a_cpu_past_its_cdt_is_repeated_not_failed():
     res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(5, cdt + 0.010, attempts_starved=9))
     assert res.verdict == "error" and "kept from a CPU" in res.message, res.message
     assert any("failed attempt" in n for n in res.notes), res.notes
+
+
+class _HarnessWaits:
+    """The harness thread's run-queue wait as ptpcert.runner.OwnCpuWait reads it: nothing,
+    then ``jump`` seconds at once from the ``at``-th look on (a harness runnable but kept
+    from a CPU that long while the IUT's bytes arrived)."""
+
+    jump, at = 0.0, 5
+
+    def __init__(self):
+        self.looks = 0
+
+    def __call__(self):
+        self.looks += 1
+        return 0.0 if self.looks < self.at else self.jump
+
+
+def test_a_harness_kept_from_a_cpu_is_its_own_stall(monkeypatch):
+    """The harness's own run-queue wait counts as its stall, also where every read came back
+    in time by its clock: it stamped the IUT's bytes late. A defect seen in an attempt where
+    the harness waited for a CPU as long as the IUT's shortest timer is an error, never a
+    fail; where it did not wait, the same defect fails."""
+    import ptpcert.runner as runner_mod
+
+    waits = type("Waits", (_HarnessWaits,), {"jump": reference_profile().params.cdt + 0.010})
+    monkeypatch.setattr(runner_mod, "OwnCpuWait", waits)
+    res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(10 ** 6, 0.0, mutant="no-dle-undoubling"))
+    assert res.verdict == "error" and "the harness was stalled" in res.message, (res.verdict, res.message)
+    assert any("31 10 10 32 15 03" in n for n in res.notes), res.notes     # the failed attempt is kept
+    # a correct IUT passes all the same
+    res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(10 ** 6, 0.0))
+    assert res.verdict == "pass", (res.verdict, res.message)
+    # no wait: the defect fails
+    monkeypatch.setattr(runner_mod, "OwnCpuWait", type("Waits", (_HarnessWaits,), {"jump": 0.0}))
+    res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(10 ** 6, 0.0, mutant="no-dle-undoubling"))
+    assert res.verdict == "fail" and "31 10 10 32 15 03" in res.message, res.message
 
 
 def test_an_iut_stall_is_not_an_excuse_where_nothing_shows_it():
