@@ -50,34 +50,41 @@ def exchanges_per_second(baud, seconds: float, payload: bytes) -> tuple[float, f
     return n / cpu, n / wall, n
 
 
-def level1(examples: int, seed: int) -> tuple[float, float] | None:
-    """The level-1 fuzzer (tests/test_fuzz_model.py) for ``examples`` examples from a fixed
-    seed, so that the repeats and a later version of the test run the same examples (as
-    far as hypothesis keeps to a seed: a later run in one process may differ).
-    Derandomized alone, hypothesis seeds from the state machine's source code: every edit
-    of the class would draw another set of examples (a set with more or fewer 1000-byte
-    blocks runs at quite another rate). (examples per CPU second, per wall second), or
-    None when an example fails: that is a finding, not a figure (it is not shrunk here;
-    ``--seed N --show-failure`` shrinks and prints it)."""
+def level1(examples: int, seed: int) -> tuple[float, float, float] | None:
+    """The level-1 fuzzer (tests/test_fuzz_model.py, ``fuzz``) for ``examples`` examples
+    from a fixed seed, so that the repeats and a later version of the test run the same
+    examples (as far as hypothesis keeps to a seed). (examples per CPU second, per wall
+    second, invariant checks per CPU second: one at the start of an example and one after
+    each of its steps), or None when an example fails: that is a finding, not a figure (it is
+    not shrunk here; ``--seed N --show-failure`` shrinks and prints it)."""
     sys.path.insert(0, str(ROOT / "tests"))
-    from hypothesis import Phase, Verbosity, seed as fixed_seed, settings
-    from hypothesis.stateful import run_state_machine_as_test
+    from hypothesis import Phase, Verbosity, settings
     import test_fuzz_model as m
 
-    machine = fixed_seed(seed)(type("TwoStations", (m.TwoStations,), {}))
     s = settings(settings.get_profile("ptpcert-quick"), max_examples=examples, database=None,
                  phases=(Phase.explicit, Phase.generate) + ((Phase.shrink,) if SHOW_FAILURE else ()),
                  verbosity=Verbosity.normal if SHOW_FAILURE else Verbosity.quiet)
+    checks = [0]
+    holds = m.TwoStations.protocol_holds
+
+    def counted(self):
+        checks[0] += 1
+        return holds(self)
+
+    m.TwoStations.protocol_holds = counted
     c0, w0 = time.process_time(), time.perf_counter()
     try:
-        run_state_machine_as_test(machine, settings=s)
+        m.fuzz(s, seed=seed)
     except Exception as e:  # noqa: BLE001 - any failure of the fuzzer is reported, not measured
         where = traceback.extract_tb(e.__traceback__)[-1]
         print(f"  level-1 fuzzer, seed {seed}: an example FAILED: {type(e).__name__} in {where.name}: {where.line}")
         if SHOW_FAILURE:
-            print("\n".join(getattr(e, "__notes__", [])))   # the steps, as hypothesis notes them
+            print("\n".join(getattr(e, "__notes__", [])))   # the program, as hypothesis prints it
         return None
-    return examples / (time.process_time() - c0), examples / (time.perf_counter() - w0)
+    finally:
+        m.TwoStations.protocol_holds = holds
+    cpu = time.process_time() - c0
+    return examples / cpu, examples / (time.perf_counter() - w0), checks[0] / cpu
 
 
 SHOW_FAILURE = False
@@ -111,7 +118,7 @@ def main() -> None:
         if all(runs):
             best = max(runs)
             print(f"  {'level-1 fuzzer (model against model)':<34} {best[0]:>10,.1f} examples/s   ({best[1]:,.1f}/s wall, "
-                  f"{args.examples} examples, seed {seed})")
+                  f"{args.examples} examples of 40 steps, seed {seed}; {best[2]:,.0f} invariant checks/s)")
             break
 
 
