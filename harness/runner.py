@@ -157,6 +157,12 @@ class CaseRun:
         self.ref = self.t0
         self.rx: list[tuple[float, int]] = []
         self.rx_log: list[int] = []   # where each received byte is in the transcript
+        #: per received byte, the earliest it may have left the IUT (real time: the look
+        #: before the read that returned it; otherwise its stamp)
+        self.rx_floor: list[float] = []
+        #: (ref, floor): when ``ref`` was set from a received byte, the earliest that byte
+        #: may have left the IUT - how long before its own reply the IUT's timer may have run
+        self._ref_floor: tuple[float, float] = (self.t0, self.t0)
         self.pos = 0
         self.log: list[dict] = []
         #: bytes on the line not kept in the transcript (beyond the flood limit), per side
@@ -239,6 +245,7 @@ class CaseRun:
         room = max(0, limit - len(self.rx))
         for t, b in items[:room]:
             self.rx.append((t, b))
+            self.rx_floor.append(looked if self.realtime else t)
             if self.realtime:
                 self.lower_bound[len(self.log)] = self.rel(looked)
             self.rx_log.append(len(self.log))
@@ -357,9 +364,11 @@ class CaseRun:
         char = self.tester_char
         start = self.ref + at
         t = start
-        prev = self.ref
         # A late byte matters only where one of the IUT's timers could have run out because
-        # of it: when the time since the previous event nears the shortest timer.
+        # of it: when the time since the previous event nears the shortest timer. Where that
+        # event is the IUT's byte, its timer may have started as early as the byte may have
+        # left it (a block written in one piece and read late, then handled for a while).
+        prev = self._ref_floor[1] if self._ref_floor[0] == self.ref else self.ref
         critical = 0.9 * self.shortest
         for k, b in enumerate(data):
             target = start + k * (char + gap) + char
@@ -522,6 +531,8 @@ class CaseRun:
             # reached an IUT whose block had ended (e.g. written in one piece over a pipe)
             self.displaced = (self.stimuli[-1][0], self.step_index)
         self.ref = last_t
+        if got:
+            self._ref_floor = (last_t, min(last_t, self.rx_floor[self.pos - 1]))
         self.forced += max(lo_nom, 0.0) + len(matched) * self.char
 
     def _ends_on_iut_timer(self, step: Step) -> bool:

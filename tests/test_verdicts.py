@@ -456,3 +456,82 @@ def test_an_iut_process_that_waited_for_a_cpu_as_long_as_its_timer_within_its_ti
     # a little wait in all is no excuse
     res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(5, cdt + 0.040, share=0.02))
     assert res.verdict == "fail", (res.verdict, res.message, res.notes)
+
+
+@pytest.mark.realtime
+@pytest.mark.parametrize("slow_attempts, verdict", [(0, "pass"), (1, "pass"), (9, "error")])
+def test_a_reply_late_after_a_whole_block_read_late_is_the_harness_s_fault(tmp_path, monkeypatch, slow_attempts, verdict):
+    """A harness that comes late to the whole-block stand-in's 2,000-byte echo block and then
+    handles it slowly (as on a loaded machine) never fails the stand-in: the attempt it could
+    not time is void and runs again, and an error where that keeps happening. In the first
+    ``slow_attempts`` attempts the harness comes to the block 8 ms late and handles it 12 ms
+    longer (with the stand-in's ADT of 20 ms). The deterministic check of the rule behind it
+    is test_a_late_reply_counts_from_when_the_iuts_byte_may_have_left_it."""
+    import time
+
+    from ptpcert.runner import CaseRun, RunOptions, Runner
+    from ptpcert.scenario import load_vector_sets
+    from ptpcert.suite import load_suite
+    from ptpcert.profile import load_profile
+    from ptpcert.transport import make_factory
+
+    attempts = [0]
+    expect, start = CaseRun._expect, CaseRun.__init__
+
+    def counting(self, *a, **k):
+        start(self, *a, **k)
+        attempts[0] += 1
+
+    def slow(self, step):
+        late = len(step.data) > 500 and attempts[0] <= slow_attempts
+        if late:
+            time.sleep(0.008)       # the block is written meanwhile: the harness reads it late
+        expect(self, step)
+        if late:
+            time.sleep(0.012)       # ... and handles its 2,000 bytes for a while
+    monkeypatch.setattr(CaseRun, "__init__", counting)
+    monkeypatch.setattr(CaseRun, "_expect", slow)
+    prof = load_profile(without_setups(tmp_path))
+    (case,) = load_suite(prof, load_vector_sets(), select=["SUITE.SEND.ECHO-MAX-1024"])
+    factory = make_factory(f"exec:{PY} {FAKES / 'whole_block.py'}", prof)
+    try:
+        res = Runner(factory, prof, RunOptions(retry_pause=())).run_case(case)
+    finally:
+        factory.shutdown()
+    assert res.verdict == verdict, (res.verdict, res.message, res.notes)
+    if slow_attempts:
+        assert any("went out" in n and "late" in n for n in res.notes + [res.message]), (res.message, res.notes)
+
+
+@pytest.mark.parametrize("floor_before_read, faults", [(0.0, False), (0.010, True)])
+def test_a_late_reply_counts_from_when_the_iuts_byte_may_have_left_it(floor_before_read, faults):
+    """The tester's reply (DLE after the IUT's block) goes out 12 ms late (3 ms allowed),
+    13 ms after the harness read the block's last byte: under the 18 ms (0.9 ADT) that make
+    lateness matter, counted from the read. But the block may have left the IUT up to the
+    look before that read: 10 ms earlier, the IUT's ADT may have been 23 ms gone, and the
+    attempt is the harness's fault (TimingFault: void, run again). Seen with the
+    whole-block stand-in on a loaded machine under --priority normal."""
+    from types import SimpleNamespace
+
+    from ptpcert.runner import CaseRun, TimingFault
+    from ptpcert.scenario import Expr
+
+    read = 1.000
+    clock = {"t": read}
+
+    def writer(b):
+        clock["t"] = read + 0.013       # handled the block for 13 ms, then wrote
+        return clock["t"]
+
+    run = SimpleNamespace(
+        ev=lambda e: e.eval({}), tester_char=0.001, ref=read, _ref_floor=(read, read - floor_before_read),
+        shortest=0.020, wait_until=lambda t: None, _stimulus=lambda: None, _record=lambda e: None,
+        rel=lambda t: t, max_stall=0.0, tol=SimpleNamespace(stimulus=0.003), step_index=4, forced=0.0)
+    step = SimpleNamespace(at=Expr("0ms"), gap=Expr("0ms"))
+    if faults:
+        with pytest.raises(TimingFault, match="went out 12.0 ms late"):
+            CaseRun._send_bytes(run, step, b"\x10", writer, "byte")
+    else:
+        CaseRun._send_bytes(run, step, b"\x10", writer, "byte")
+        assert run.ref == read + 0.013
+    assert run.max_stall == pytest.approx(0.012)
