@@ -207,6 +207,19 @@ class ProcedureAnalyzer:
         """(rule, reference, code) of what a station sends at start-up."""
         return ("a station announces its start-up", "", None)
 
+    def announces_startup(self, seat: str) -> bool:
+        """Does the station in ``seat`` send something when it is switched on? (When it does
+        not, a power-on only starts its model afresh: there is no start-up output to expect.)"""
+        return True
+
+    def startup_name(self, seat: str) -> str:
+        """What a station sends at start-up, for people (e.g. "NAK")."""
+        return "announcement"
+
+    def entry_start(self, entry: Any) -> float:
+        """When the transmission ``entry`` of a station's explanation log (``tx_log``) began."""
+        return entry[0]
+
     def cause(self, run: "SeatRun", entry: Any, k: int, byte: int) -> Cause:
         """Why the model (``run.host``) sends ``byte``, the ``k``-th of the transmission
         ``entry`` of its explanation log (``station.tx_log``: [start, end, input, actions]).
@@ -351,7 +364,8 @@ class SeatRun:
         pos = self._log_pos
         n = len(log)
         moved = pos < 0
-        while pos + 1 < n and log[pos + 1][0] <= s + 1e-9:
+        start = self.kit.entry_start
+        while pos + 1 < n and start(log[pos + 1]) <= s + 1e-9:
             pos += 1
             moved = True
         if moved:
@@ -535,7 +549,8 @@ class SeatRun:
             if e is None:
                 rule, ref, code = kit.startup_rule(self.judge.seat)
                 self.failed = Finding(self.judge.seat, o.t, R.FAIL, "start-up", rule, ref,
-                                      f"no start-up NAK: the station's first character after it was switched on "
+                                      f"no start-up {kit.startup_name(self.judge.seat)}: the station's first "
+                                      f"character after it was switched on "
                                       f"is {self._show(o)}; {rule} ({ref})",
                                       expected=rule, observed=self._show(o), codes=(code,) if code else ())
                 return None
@@ -676,7 +691,7 @@ class SeatRun:
                 f"sent {self._show(o)} where the model sends {name}: {cause.rule} ({cause.reference})",
                 expected=f"{name} at {self._at(p)}", observed=f"{self._show(o)} at {self._at(o.t)}",
                 window=(lo, hi), codes=codes, rules=cause.rules,
-                order_free=k > 0 and entry is not None and not self._partner_between(entry[0], o.t))
+                order_free=k > 0 and entry is not None and not self._partner_between(self.kit.entry_start(entry), o.t))
             return True
         if o.t < lo:
             self.failed = Finding(
@@ -870,7 +885,8 @@ class SeatJudge:
         if run.expect_startup:
             rule, ref, code = self.kit.startup_rule(self.seat)
             self._emit(Finding(self.seat, run.t0, R.FAIL, "start-up", rule, ref,
-                               f"no start-up NAK after the station was switched on: {rule} ({ref})",
+                               f"no start-up {self.kit.startup_name(self.seat)} after the station was switched on: "
+                               f"{rule} ({ref})",
                                expected=rule, observed="nothing", codes=(code,) if code else ()))
 
     def _reset(self, reset: tuple[float, str, int, frozenset]) -> None:
@@ -885,7 +901,8 @@ class SeatJudge:
         self.settled = max(self.settled, chunk)
         i_in = self.analysis.index_of_chunk(self.inputs, chunk)
         i_obs = self.analysis.index_of_chunk(self.obs, chunk)
-        self.run = SeatRun(self, self.kit.fresh(self.seat, t), t, i_in, i_obs, expect_startup=self.seat in power)
+        self.run = SeatRun(self, self.kit.fresh(self.seat, t), t, i_in, i_obs,
+                           expect_startup=self.seat in power and self.kit.announces_startup(self.seat))
         self.lost_at = None
         self.anchored = True
 
