@@ -234,7 +234,11 @@ class AnalyzerAscii(ProcedureAnalyzer):
         super().__init__(procedure, params, apps)
         self.late_abs = late_ms / 1000.0
         ps = list(self.params.values())
-        longest = max([p.cdt for p in ps] + [p.xon_wait for p in ps if p.flow_control == "xon_xoff"])
+        # the longest timer after which a station that has stopped sending and receiving is at
+        # rest: the CDT (a frame ends, or is discarded) and the pause after it. (The wait
+        # time for XON is left out: a stopped sender that is followed afresh after a quiet
+        # line sends the rest of its frame as a frame of its own, which the model accepts.)
+        longest = max(p.cdt + p.char_time for p in ps)
         self._rest = 1.25 * longest + self.late_abs + 4 * max(self.char(s) for s in SEATS)
         self._unsendable: dict[tuple[str, int], str] = {}
         self._variants: list[Variant] | None = None
@@ -322,6 +326,7 @@ class AnalyzerAscii(ProcedureAnalyzer):
         b = item.value
         seat = run.judge.seat
         if p.flow_control == "xon_xoff" and b == p.xoff:
+            self._forget_before_quiet(run, item.start)
             if st.fc_state is FcState.OPEN and host.tentative and _would_be_full(host):
                 return Explanation(lambda r, t: r.host.unread(t),
                                    "its application had not read the frames it received (the XOFF shows it)")
@@ -331,8 +336,8 @@ class AnalyzerAscii(ProcedureAnalyzer):
                 return Explanation(self._read_until_xon)
             if st.frames_stored and not st.readings.q15_xon_only_after_xoff:
                 return Explanation(lambda r, t: r.host.read(t))
-            if st.fc_state is FcState.OPEN and self._quiet(run, index):
-                return Explanation(lambda r, t: r.replace_host(self.powered(seat, t)),
+            if self.at_rest(host) and self._quiet(run, index):
+                return Explanation(lambda r, t: self._restart(r, t),
                                    "restarted: its start-up XON after a quiet line (§2.2.4 'data flow control')")
             return None
         # a data character
@@ -416,12 +421,35 @@ class AnalyzerAscii(ProcedureAnalyzer):
         n = sum(1 for x in j.obs[max(0, index - MAX_AFTER_XOFF - 1):index] if x.start >= t_x - c - r)
         return n < MAX_AFTER_XOFF
 
+    def _forget_before_quiet(self, run, t: float) -> None:
+        """Frames read "at once" before the line was last quiet for the rest gap stay read: a
+        model followed afresh from there (a recording that begins there, or one resumed
+        after a difference) knows nothing of them either."""
+        host: AsciiAnalysisHost = run.host
+        if not host.tentative:
+            return
+        j = run.judge
+        times = sorted([x.t for x in j.obs if host.tentative[0][0] - self._rest <= x.t <= t]
+                       + [x.t for x in j.inputs if host.tentative[0][0] - self._rest <= x.t <= t] + [t])
+        quiet = None
+        for a, b in zip(times, times[1:]):
+            if b - a >= self._rest:
+                quiet = b
+        if quiet is not None:
+            host.tentative = [f for f in host.tentative if f[0] >= quiet - QUANTUM]
+
+    def _restart(self, run, t: float) -> None:
+        run.replace_host(self.powered(run.judge.seat, t))
+        run.memo.pop("discards", None)      # what the receiver discarded before is gone with it
+
     def _quiet(self, run, index: int) -> bool:
         """Before the seat's ``index``-th item the seat was silent, and the partner sent
-        nothing but XON/XOFF, for longer than the longest timer: an XON now is a start-up XON."""
+        nothing but XON/XOFF, for longer than both CDTs and two characters: an XON from a
+        station at rest (nothing to send, nothing stored, nobody held) is then its start-up
+        XON (any other XON from it breaks a rule, reading Q15, so nothing else can explain it)."""
         j = run.judge
         item = j.obs[index]
-        since = item.start - self._rest
+        since = item.start - max(p.cdt for p in self.params.values()) - 2 * max(self.char(s) for s in SEATS)
         if index > 0 and j.obs[index - 1].t > since:
             return False
         q = self.params[OTHER[j.seat]]
@@ -501,7 +529,7 @@ class AnalyzerAscii(ProcedureAnalyzer):
     def _discarded(self, run, frame: bytes) -> tuple | None:
         """The discard (as the model's receiver made it, since its last echo) whose characters
         the seat sends as a frame of its own, if any."""
-        since = run.host.echo_at
+        since = max(run.host.echo_at, run.now - self._rest)
         for d in reversed(run.memo.get("discards", ())):
             t, reason, code, data = d
             if t < since:
