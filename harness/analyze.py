@@ -220,6 +220,12 @@ class ProcedureAnalyzer:
         """When the transmission ``entry`` of a station's explanation log (``tx_log``) began."""
         return entry[0]
 
+    def continues(self, prev: Any, entry: Any) -> bool:
+        """Is ``entry`` of the explanation log the rest of the transmission ``prev`` (a log
+        that records a transmission in parts, e.g. once its schedule was delayed)? Its bytes
+        then keep ``prev``'s cause and count on from it."""
+        return False
+
     def cause(self, run: "SeatRun", entry: Any, k: int, byte: int) -> Cause:
         """Why the model (``run.host``) sends ``byte``, the ``k``-th of the transmission
         ``entry`` of its explanation log (``station.tx_log``: [start, end, input, actions]).
@@ -361,7 +367,7 @@ class SeatRun:
         log = self.st.tx_log
         if not log:
             return self.kit.cause(self, None, 0, b), None, 0
-        pos = self._log_pos
+        pos = old = self._log_pos
         n = len(log)
         moved = pos < 0
         start = self.kit.entry_start
@@ -369,8 +375,11 @@ class SeatRun:
             pos += 1
             moved = True
         if moved:
-            self._log_pos, self._log_k = max(pos, 0), 0
-            self._log_cause = None
+            if old >= 0 and pos > old and self.kit.continues(log[pos - 1], log[pos]):
+                self._log_pos = pos     # the same transmission, logged in two parts
+            else:
+                self._log_pos, self._log_k = max(pos, 0), 0
+                self._log_cause = None
         k = self._log_k
         self._log_k += 1
         entry = log[self._log_pos]
@@ -632,8 +641,9 @@ class SeatRun:
         o = obs[self.i_obs] if self.i_obs < len(obs) else None
         if o is not None and o.chunk not in self.flags:
             # a byte the model sends for a local event (its application's send job) may begin
-            # an exchange though a job was waiting
-            self.flags[o.chunk] = cause.kind == "local" and self.kit.begins(b)
+            # an exchange though a job was waiting (the first of its transmission: a frame's
+            # other characters continue the exchange it began)
+            self.flags[o.chunk] = cause.kind == "local" and k == 0 and self.kit.begins(b)
         if o is not None and o.kind == "byte" and o.value == b and lo <= o.t <= hi:
             # the usual case: the byte the model sends, in its window
             d = o.t - p

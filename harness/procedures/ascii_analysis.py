@@ -58,7 +58,7 @@ from typing import Any
 from ..analyze import OTHER, SEATS, Cause, Explanation, ProcedureAnalyzer, Variant, WAIT, QUANTUM
 from ..model.ascii import AsciiStation
 from ..model.ascii import events as aev
-from ..model.ascii.codec import char_name, split_frames
+from ..model.ascii.codec import char_name, send_bytes, split_frames
 from ..model.ascii.events import FrameDiscarded
 from ..model.ascii.params import BUFFER_BYTES, MAX_FRAME, XOFF_MARGIN
 from ..model.ascii.readings import READINGS, AsciiReadings
@@ -300,6 +300,11 @@ class AnalyzerAscii(ProcedureAnalyzer):
     def entry_start(self, entry: Any) -> float:
         return entry.start
 
+    def continues(self, prev: Any, entry: Any) -> bool:
+        # the station logs what it sent as it is popped: a frame whose schedule moved comes
+        # in several records with one explanation
+        return prev.why is entry.why and prev.kind == entry.kind
+
     # -- local events ---------------------------------------------------------------------
     def announces_startup(self, seat: str) -> bool:
         return self.params[seat].flow_control == "xon_xoff"
@@ -362,6 +367,8 @@ class AnalyzerAscii(ProcedureAnalyzer):
             self._unsendable[(seat, index)] = "len"
             return None
         if host.echo and self._discarded(run, frame) is not None:
+            return None
+        if self._rest_of_aborted(run, frame, item.start):
             return None
         return Explanation(lambda r, t, d=payload: self._request(r, t, d))
 
@@ -538,11 +545,21 @@ class AnalyzerAscii(ProcedureAnalyzer):
                 return d
         return None
 
+    def _rest_of_aborted(self, run, frame: bytes, t: float) -> bool:
+        """Is ``frame`` the rest of the send job the model aborted after the wait time for
+        XON (16#0708), sent all the same?"""
+        aborted = run.memo.get("aborted")
+        if aborted is None or not frame:
+            return False
+        at, wire = aborted
+        p = self.params[run.judge.seat]
+        return t - at <= max(self._rest, p.xon_wait) and len(frame) < len(wire) and frame in wire
+
     def event(self, run, e) -> None:
         if isinstance(e, FrameDiscarded):
             run.memo["discards"] = run.memo.get("discards", ())[-7:] + ((e.time, e.reason, e.code, e.data),)
         elif isinstance(e, SendFailed) and e.code == Code.XON_CTS_WAIT_EXPIRED:
-            run.memo["aborted"] = e.time
+            run.memo["aborted"] = (e.time, send_bytes(e.payload, run.st.params, run.st.readings) or e.payload)
 
     def begins(self, byte: int) -> bool:
         return byte not in self._names
@@ -588,7 +605,10 @@ class AnalyzerAscii(ProcedureAnalyzer):
             rule = (f"with the echo convention the station sends back the oldest frame of its receive buffer, as its "
                     f"receiver delimited it ({rrule}; {_BUFFER_RULE[0]}); {rule}")
             ref = f"{rref}; {_BUFFER_RULE[1]}; {ref}"
-        late = q.cdt + c      # a pause longer than the partner's CDT ends the frame there
+        # a pause longer than the partner's CDT ends the frame there (the partner's CDT runs
+        # again from its XON); of two CDTs the shorter: a CP 341 partner is usually set as the
+        # station itself, and a tester's CDT may be a mere watchdog
+        late = min(p.cdt, q.cdt) + c
         if why is _AFTER_XOFF_WHY:
             return Cause("local", "after XOFF the transmitter still sends what it holds (at most "
                                   f"{MAX_AFTER_XOFF} characters, reading Q15)", _FC, 3e-6, late)
@@ -647,6 +667,10 @@ class AnalyzerAscii(ProcedureAnalyzer):
             return Cause("reply", "a send job carries 1 to 1024 bytes (LEN): a longer frame is never sent, the job "
                                   "is refused with 16#1E41", "Table 6-2 LEN; Table A-7; Table 8-2 (1E)41H",
                          0.0, 0.0, Code.LEN_ILLEGAL)
+        if st.job is None and self._rest_of_aborted(run, self._frame_now(run), item.start):
+            return Cause("reply", f"no XON within the wait time ({p.xon_wait_ms} ms): the send job is aborted "
+                                  "with 16#0708, and what is left of it is not sent (a late XON does not resume it)",
+                         _FC + "; Table 8-1 (07)08H", 0.0, 0.0, Code.XON_CTS_WAIT_EXPIRED)
         if st.tx_state is TxState.STOPPED or st.partner_stopped:
             aborted = run.memo.get("aborted")
             if aborted is not None and st.job is None:
@@ -764,7 +788,7 @@ class AnalyzerAscii(ProcedureAnalyzer):
             shown = (shown + " " if shown else "") + " ".join(f"<{char_name(x)}>" for x in piece.data[len(body):])
         n = len(piece.data)
         if piece.kind == "fragment":
-            return f"fragment {shown} ({n} bytes, no end: discarded)"
+            return f"fragment {shown} ({n} bytes, no end)"
         how = {"cdt": "ended by the CDT", "end_chars": "end character",
                "fixed_length": "fixed length"}[rx.end_criterion]
         return f"frame {shown} ({n} bytes, {how})"
