@@ -177,6 +177,12 @@ class ProcedureAnalyzer:
         the line must be seen first."""
         return None
 
+    def interjects(self, run: "SeatRun", item: "Item") -> bool:
+        """May the seat's ``item`` reveal a local event even where the model is about to send
+        a byte of its own (e.g. a flow-control character a station puts between two
+        characters of its frame)? Then :meth:`explain` is asked first."""
+        return False
+
     def before(self, item: "Item", inputs: list["Item"]) -> bool:
         """The seat's ``item`` began at the instant (within a microsecond) the other seat's
         ``inputs`` were complete: did what it reveals happen before the station took them in
@@ -454,7 +460,8 @@ class SeatRun:
             if t_ob == t and stage == 0:
                 # a local event the seat's byte reveals goes before the inputs of its instant
                 # (two stations whose STXs cross both decided to send before hearing the other)
-                if st.transmitting and t_dl <= o.start + QUANTUM and not (self.lead and t < o.start - QUANTUM):
+                if (st.transmitting and t_dl <= o.start + QUANTUM and not (self.lead and t < o.start - QUANTUM)
+                        and not kit.interjects(self, o)):
                     self.stage, self._tied = 1, -inf   # the model is about to send a byte: compare
                     continue
                 idx = self.i_obs

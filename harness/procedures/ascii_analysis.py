@@ -52,6 +52,7 @@ late.
 
 from __future__ import annotations
 
+import bisect
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -143,7 +144,8 @@ class AsciiAnalysisHost:
         #: reads every frame as soon as it is stored (an application that does not echo,
         #: until an XOFF shows it did not)
         self.at_once = not echo or readings.a_reads_at_once
-        self.tentative: list[tuple[float, bytes]] = []
+        #: (stored at, frame, read at)
+        self.tentative: list[tuple[float, bytes, float]] = []
         #: the frames it read to send back: (time, frame), the latest few
         self.echoes: list[tuple[float, bytes]] = []
 
@@ -163,7 +165,7 @@ class AsciiAnalysisHost:
                     if self.echo:
                         self._send_back(at, frame)
                     else:
-                        self.tentative.append((stored_at, frame))
+                        self.tentative.append((stored_at, frame, at))
             if not events and not acted:
                 return out
 
@@ -195,7 +197,7 @@ class AsciiAnalysisHost:
         st = self.station
         _advance(st, t)
         # the model's receive buffer, put back as it was (the station keeps no other record)
-        for stored_at, frame in reversed(self.tentative):
+        for stored_at, frame, _ in reversed(self.tentative):
             st._stored.appendleft((stored_at, frame))
             st._stored_bytes += len(frame)
         self.tentative = []
@@ -216,7 +218,7 @@ def _would_be_full(host: AsciiAnalysisHost) -> bool:
     st = host.station
     r = st.readings
     frames = st.frames_stored + len(host.tentative)
-    fill = st.buffer_fill + sum(len(f) for _, f in host.tentative)
+    fill = st.buffer_fill + sum(len(f) for _, f, _ in host.tentative)
     return frames >= max(1, st.params.buffer_frames + r.q14_xoff_frame_offset) or fill >= r.q14_xoff_fill_bytes
 
 
@@ -321,6 +323,12 @@ class AnalyzerAscii(ProcedureAnalyzer):
             seat = run.judge.seat
             return Explanation(lambda r, t: r.replace_host(self.powered(seat, t)))
         return None
+
+    def interjects(self, run, item) -> bool:
+        # XON and XOFF go out at the next character boundary, between two characters of the
+        # station's own frame if need be (full duplex)
+        p = self.params[run.judge.seat]
+        return item.kind == "byte" and p.flow_control == "xon_xoff" and item.value in (p.xon, p.xoff)
 
     def explain(self, run, item, index: int):
         if item.kind != "byte":
@@ -431,19 +439,20 @@ class AnalyzerAscii(ProcedureAnalyzer):
     def _forget_before_quiet(self, run, t: float) -> None:
         """Frames read "at once" before the line was last quiet for the rest gap stay read: a
         model followed afresh from there (a recording that begins there, or one resumed
-        after a difference) knows nothing of them either."""
+        after a difference) knows nothing of them either. (A frame the model read "at once"
+        only after the quiet line - when an XON showed an earlier one read - counts.)"""
         host: AsciiAnalysisHost = run.host
         if not host.tentative:
             return
         j = run.judge
-        times = sorted([x.t for x in j.obs if host.tentative[0][0] - self._rest <= x.t <= t]
-                       + [x.t for x in j.inputs if host.tentative[0][0] - self._rest <= x.t <= t] + [t])
+        t0 = min(f[2] for f in host.tentative) - self._rest
+        times = sorted([x.t for x in j.obs if t0 <= x.t <= t] + [x.t for x in j.inputs if t0 <= x.t <= t] + [t])
         quiet = None
         for a, b in zip(times, times[1:]):
             if b - a >= self._rest:
                 quiet = b
         if quiet is not None:
-            host.tentative = [f for f in host.tentative if f[0] >= quiet - QUANTUM]
+            host.tentative = [f for f in host.tentative if f[2] >= quiet - QUANTUM]
 
     def _restart(self, run, t: float) -> None:
         run.replace_host(self.powered(run.judge.seat, t))
@@ -489,9 +498,9 @@ class AnalyzerAscii(ProcedureAnalyzer):
         p, q = self.params[seat], self.params[OTHER[seat]]
         host: AsciiAnalysisHost = run.host
         r = a.resolution
-        gap_max = q.cdt + r + QUANTUM
+        gap_max = min(p.cdt, q.cdt) + r + QUANTUM     # as late as a character of a frame may come (see cause)
         flow = (p.xon, p.xoff) if p.flow_control == "xon_xoff" else ()
-        partner_xoff = q.xoff if q.flow_control == "xon_xoff" else None
+        partner_flow = (q.xon, q.xoff) if q.flow_control == "xon_xoff" else None
         end = p.end_sequence if p.end_criterion == "end_chars" else b""
         n_fixed = (p.fixed_length if p.end_criterion == "fixed_length"
                    and host.readings.a_fixed_length_job_is_one_frame else 0)
@@ -509,7 +518,8 @@ class AnalyzerAscii(ProcedureAnalyzer):
             if it.value in flow:
                 i += 1
                 continue
-            if last is not None and it.start - last > gap_max and not self._held(inputs, partner_xoff, last, it.start):
+            if (last is not None and it.start - last > gap_max
+                    and not self._held(inputs, partner_flow, last, self.char(seat), r)):
                 return bytes(data)
             data.append(it.value & (0x7F if p.data_bits == 7 else 0xFF))
             last = it.t
@@ -522,26 +532,31 @@ class AnalyzerAscii(ProcedureAnalyzer):
                 return bytes(data)
 
     @staticmethod
-    def _held(inputs, xoff: int | None, t0: float, t1: float) -> bool:
-        """Did the partner send XOFF between ``t0`` (a little before) and ``t1``?"""
-        if xoff is None:
+    def _held(inputs, flow: tuple[int, int] | None, last: float, c: float, r: float) -> bool:
+        """Did the partner's XOFF stop the seat after its character complete at ``last``: is
+        the partner's last XON or XOFF by then (or while that character was the last on the
+        line) an XOFF, come at most MAX_AFTER_XOFF characters before it (``c`` a character
+        time, ``r`` the resolution)?"""
+        if flow is None:
             return False
-        for x in inputs:
-            if x.t > t1:
-                break
-            if x.t >= t0 - MAX_AFTER_XOFF * 0.01 and x.kind == "byte" and x.value == xoff:
-                return True
+        xon, xoff = flow
+        lo, hi = last - (MAX_AFTER_XOFF + 1) * c - r, last + c + r
+        i = bisect.bisect_right(inputs, hi, key=lambda x: x.t) - 1
+        while i >= 0 and inputs[i].t >= lo:
+            x = inputs[i]
+            if x.kind == "byte" and x.value in (xon, xoff):
+                return x.value == xoff
+            i -= 1
         return False
 
     def _discarded(self, run, frame: bytes) -> tuple | None:
-        """The discard (as the model's receiver made it, since its last echo) whose characters
-        the seat sends as a frame of its own, if any."""
-        since = max(run.host.echo_at, run.now - self._rest)
+        """The discard (one of the last few the model's receiver made since the model was
+        followed afresh or restarted) whose characters the seat sends as a frame of its own,
+        if any: the frame begins with the discarded characters, or is a part of them at least
+        two long."""
         for d in reversed(run.memo.get("discards", ())):
             t, reason, code, data = d
-            if t < since:
-                break
-            if frame and data and (frame in data or data in frame):
+            if frame and data and (frame.startswith(data) or (len(frame) >= 2 and frame in data)):
                 return d
         return None
 
@@ -726,6 +741,11 @@ class AnalyzerAscii(ProcedureAnalyzer):
             out.append(Variant("resolution", f"with the seat's own send jobs and reads up to "
                                              f"{1000 * resolution:.3f} ms before its characters show them "
                                              "(within the timing resolution)", lead=resolution))
+        else:
+            # the capture formats keep whole microseconds: an XOFF and the character a station
+            # would have begun next that met within one came in either order
+            out.append(Variant("resolution", "with the other seat's characters 2 µs earlier (the capture's "
+                                             "timestamps are whole microseconds)", shift=-2 * QUANTUM))
         if self._variants is None:
             kit = self.procedure.fuzz_kit()
             alts = list(kit.alternatives if kit is not None else ()) + [
