@@ -7,9 +7,9 @@ jobs nor the application's reads of the receive buffer are on the line, so the s
 characters reveal them (the local events of :mod:`ptpcert.analyze`):
 
 * a send job: the first character of a frame from a station that has none. Its data is
-  read ahead on the line: the station's characters back to back (a pause no longer than the
-  partner's CDT, or one while the partner held it with XOFF, does not end it), XON/XOFF left
-  out, up to the end character(s) (end-character criterion) or the fixed length
+  read ahead on the line: the station's characters back to back (a pause of less than half
+  the shorter CDT, or one while the partner held it with XOFF, does not end it), XON/XOFF
+  left out, up to the end character(s) (end-character criterion) or the fixed length
   (fixed-length criterion; reading ``a_fixed_length_job_is_one_frame``), at most 1025
   bytes. With variant 3 of the end-character criterion ("LEN bytes plus automatic end
   character(s)") the end character(s) at its end are the driver's, not the job's. The model
@@ -42,10 +42,10 @@ modem lines (RTS/CTS and the automatic use of the V.24 signals are not judged), 
 send jobs' data beyond what was sent (a job the driver cut after its end character looks
 like two jobs: see the tests' NOT_VISIBLE_ON_THE_WIRE).
 
-Timing windows (on top of the capture's resolution): a character of a frame may come as
-late after the one before as the partner's CDT allows (a longer pause ends the frame at the
-partner's receiver); so may the first character after the partner's XON (the partner's CDT
-runs again from its XON); the first character of a frame held back by the pause between
+Timing windows (on top of the capture's resolution): a character of a frame may come up to
+half the shorter CDT late after the one before (see ``AnalyzerAscii._gap``); so may the
+first character after the partner's XON (the partner's CDT runs again from its XON); the
+first character of a frame held back by the pause between
 frames may come one character time and 5 % of the pause early; XON and XOFF the tolerance
 late.
 """
@@ -66,7 +66,7 @@ from ..model.ascii.readings import READINGS, AsciiReadings
 from ..model.ascii.station import Timer, Why
 from ..model.ascii.table import FcState, RxState, TxState
 from ..model.codes import Code
-from ..model.events import SendFailed
+from ..model.events import SendDone, SendFailed
 
 #: how many characters a sender may still send after the partner's XOFF: what its UART's
 #: transmit FIFO holds (a 16550A: 16). The manual gives no number (reading Q15).
@@ -257,6 +257,17 @@ class AnalyzerAscii(ProcedureAnalyzer):
     def _pause(self, p, readings: AsciiReadings = READINGS) -> float:
         return p.cdt + readings.q5_send_pause_extra_chars * p.char_time
 
+    @staticmethod
+    def _gap(p, q) -> float:
+        """The longest pause inside a frame (and before the first character after the
+        partner's XON): half the shorter CDT. A driver sends a frame back to back (it sends
+        nothing before it has all of the job's data); a pause of half the CDT is where a
+        receiver's timer may begin to take it for the end of the frame (the CDT runs again
+        from an XON). Of two CDTs the shorter: a CP 341 partner is usually set as the station
+        itself, and a tester's CDT may be a mere watchdog. A longer pause ends the job: what
+        follows is another one (held back by the pause between frames where one is due)."""
+        return 0.5 * min(p.cdt, q.cdt)
+
     def early_wait(self, host: AsciiAnalysisHost) -> float:
         st = host.station
         c = st.params.char_time
@@ -296,8 +307,11 @@ class AnalyzerAscii(ProcedureAnalyzer):
         return host
 
     def at_rest(self, host: AsciiAnalysisHost) -> bool:
+        """Where a model afresh would go on as this one: nothing to send, nothing stored,
+        nobody held. (The pause after its last frame is kept across a rest point in the run's
+        memo: see :meth:`event` and :meth:`_request`.)"""
         st = host.station
-        return (st.idle and st.fc_state is FcState.OPEN and not st.partner_stopped and not st.frames_stored)
+        return st.idle and st.fc_state is FcState.OPEN and not st.partner_stopped and not st.frames_stored
 
     def entry_start(self, entry: Any) -> float:
         return entry.start
@@ -382,7 +396,13 @@ class AnalyzerAscii(ProcedureAnalyzer):
 
     @staticmethod
     def _request(run, t: float, payload: bytes) -> None:
-        run.st.request_send(t, payload)
+        st = run.st
+        # a model begun at a rest point (an alternative) knows the end of the station's last
+        # frame from the run's memo: the pause after it holds this job back as well
+        end = run.memo.get("frame_end")
+        if end is not None and end > st._last_frame_end:
+            st._last_frame_end = end
+        st.request_send(t, payload)
 
     @staticmethod
     def _echo(run, t: float) -> None:
@@ -498,7 +518,7 @@ class AnalyzerAscii(ProcedureAnalyzer):
         p, q = self.params[seat], self.params[OTHER[seat]]
         host: AsciiAnalysisHost = run.host
         r = a.resolution
-        gap_max = min(p.cdt, q.cdt) + r + QUANTUM     # as late as a character of a frame may come (see cause)
+        gap_max = self._gap(p, q) + r + QUANTUM     # as late as a character of a frame may come (see cause)
         flow = (p.xon, p.xoff) if p.flow_control == "xon_xoff" else ()
         partner_flow = (q.xon, q.xoff) if q.flow_control == "xon_xoff" else None
         end = p.end_sequence if p.end_criterion == "end_chars" else b""
@@ -571,7 +591,9 @@ class AnalyzerAscii(ProcedureAnalyzer):
         return t - at <= max(self._rest, p.xon_wait) and len(frame) < len(wire) and frame in wire
 
     def event(self, run, e) -> None:
-        if isinstance(e, FrameDiscarded):
+        if isinstance(e, SendDone):
+            run.memo["frame_end"] = e.time      # the last stop bit of the frame (the pause runs from it)
+        elif isinstance(e, FrameDiscarded):
             run.memo["discards"] = run.memo.get("discards", ())[-7:] + ((e.time, e.reason, e.code, e.data),)
         elif isinstance(e, SendFailed) and e.code == Code.XON_CTS_WAIT_EXPIRED:
             run.memo["aborted"] = (e.time, send_bytes(e.payload, run.st.params, run.st.readings) or e.payload)
@@ -620,10 +642,7 @@ class AnalyzerAscii(ProcedureAnalyzer):
             rule = (f"with the echo convention the station sends back the oldest frame of its receive buffer, as its "
                     f"receiver delimited it ({rrule}; {_BUFFER_RULE[0]}); {rule}")
             ref = f"{rref}; {_BUFFER_RULE[1]}; {ref}"
-        # a pause longer than the partner's CDT ends the frame there (the partner's CDT runs
-        # again from its XON); of two CDTs the shorter: a CP 341 partner is usually set as the
-        # station itself, and a tester's CDT may be a mere watchdog
-        late = min(p.cdt, q.cdt) + c
+        late = self._gap(p, q) + c
         if why is _AFTER_XOFF_WHY:
             return Cause("local", "after XOFF the transmitter still sends what it holds (at most "
                                   f"{MAX_AFTER_XOFF} characters, reading Q15)", _FC, 3e-6, late)
