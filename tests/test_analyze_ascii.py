@@ -41,12 +41,14 @@ ETX = 0x03
 
 
 def link_capture(link: Link) -> C.Capture:
-    """What the two stations of a link put on the line, each byte at its completion."""
+    """What the two stations of a link put on the line, each byte at its completion; both
+    were switched on at 0 (make_link), which a mark says."""
     chunks = []
     for w in link.wire:
         st = link.a if w.src == link.a.name else link.b
         chunks.append(C.Chunk(round(w.start + st.params.char_time, 6), "a" if st is link.a else "b", bytes([w.byte])))
-    return C.Capture(chunks, {"a": link.a.name, "b": link.b.name}, C.LineSettings(9600, 8, "even", 1))
+    return C.Capture(chunks, {"a": link.a.name, "b": link.b.name}, C.LineSettings(9600, 8, "even", 1),
+                     marks=[C.Mark(0.0, "power-on")])
 
 
 def kit_for(pa: AsciiParams, pb: AsciiParams, apps=None):
@@ -276,14 +278,17 @@ BROKEN_RULE = {
 
 #: variants whose defect the captures of the suite's failed cases do not show (each case ends
 #: before the variant's echo or frame is complete): a link of the tester and the variant
-#: running to a quiet line instead, the tester's jobs (time, data) given here
+#: running to a quiet line instead - settings besides the variant's profile, and the tester's
+#: jobs (time, data)
 OWN_EXCHANGE = {
     # two frames 1.5 CDT apart: the variant takes them for one and sends both back together
-    "cdt-double": [(0.0, b"AB"), (0.002 + 1.5 * 0.020 + 2 * 0.00115, b"CD")],
-    # characters after the end character, then a quiet line: the variant keeps them with the frame
-    "end-char-waits-cdt": [(0.0, b"AB\x03CD")],
+    "cdt-double": ({}, [(0.0, b"AB"), (0.002 + 1.5 * 0.020 + 2 * 0.00115, b"CD")]),
+    # characters after the end character (a second job), then a quiet line: the variant keeps
+    # them with the frame. Its echo shows them only with a send variant that sends the job's
+    # data as it is ("up to and including the end character" cuts them off again)
+    "end-char-waits-cdt": ({"send_variant": "len_with_end"}, [(0.0, b"AB\x03"), (0.0, b"CD")]),
     # the variant's own job of 1025 bytes (a CP 341 refuses it: Table 8-2 (1E)41H)
-    "len-over-1024-sent": [],
+    "len-over-1024-sent": ({}, []),
 }
 
 #: broken variants added after the analysis was built, not yet checked against it: each must
@@ -336,14 +341,15 @@ def _variant_capture(name: str):
     """The capture in which the variant's defect shows: the suite's failed cases against it
     (sim:), or its own exchange with the tester (OWN_EXCHANGE)."""
     m = MUTANTS[name]
-    prof = reference_profile(**m.profile)
+    settings, jobs = OWN_EXCHANGE.get(name, ({}, None))
+    prof = reference_profile(**{**m.profile, **settings})
     pb, pa = prof.params, PROC.tester_params(prof.params)
-    if name in OWN_EXCHANGE:
+    if jobs is not None:
         link = make_link(AsciiStation(pa, name="a"), m.make(pb, name="b"))
         t0 = link.now + 0.05
-        for at, data in OWN_EXCHANGE[name]:
+        for at, data in jobs:
             link.request(link.a, data, at=t0 + at)
-        if not OWN_EXCHANGE[name]:
+        if not jobs:
             link.request(link.b, bytes(range(256)) * 4 + b"X", at=t0)
         link.run_until_quiet(t0 + 10)
         return link_capture(link), pa, pb, None
