@@ -455,3 +455,59 @@ def test_a_missing_start_up_xon_after_a_power_on_mark_fails_and_a_restart_is_a_n
     quiet = C.Capture([c for c in no_xon.chunks if c.data not in (bytes([p.xon]),)], line=cap.line,
                       marks=[C.Mark(0.0, "power-on b")])
     assert not A.analyze(quiet, kit_for(q, q, {"a": "none", "b": "none"}), judge="b").findings
+
+
+# ------------------------------------------------------------------ real time
+
+
+ASCII_IUT = ["--procedure", "ASCII", "--baud", "9600", "--cdt-ms", "220", "--end-criterion", "end_chars",
+             "--end-chars", "03", "--flow-control", "xon_xoff"]
+
+
+@pytest.mark.realtime
+def test_ptpcert_iut_against_ptpcert_iut_is_judged_clean():
+    """Two ASCII reference drivers as real processes (both with the echo application, one
+    handing over a frame at start-up, so the frame goes back and forth), wired back to back
+    through pipes by the relay of test_monitor that records the line: both seats clean."""
+    import os
+    import subprocess
+    import sys
+    import time
+
+    from test_monitor import STALL, Relay, attempts, stop_process
+
+    def iut(*args: str) -> list[str]:
+        return [sys.executable, "-m", "ptpcert.cli", "iut", *ASCII_IUT, *args]
+
+    def once(_attempt: int):
+        b = subprocess.Popen(iut(), stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
+        a_in, relay_out = os.pipe()
+        relay = a = None
+        try:
+            a_out, a_w = os.pipe()
+            relay = Relay({"a": (a_out, b.stdin.fileno()), "b": (b.stdout.fileno(), relay_out)}, record=True)
+            relay.start()
+            relay.wait_on("b")       # its start-up XON
+            a = subprocess.Popen(iut("--send", "48454C4C4F0D0A03"), stdin=a_in, stdout=a_w, stderr=subprocess.DEVNULL)
+            os.close(a_w)
+            os.close(a_in)
+            relay.wait_on("a")
+            time.sleep(3.0)
+        finally:
+            end = round(time.monotonic() - relay.t0, 6) if relay is not None else 0.0
+            for proc in (a, b):
+                if proc is not None:
+                    stop_process(proc)
+            if relay is not None:
+                relay.stop()
+        if relay.stall > STALL:
+            return None
+        return C.Capture([c for c in relay.chunks if c.t <= end], {"a": "ptpcert iut --send", "b": "ptpcert iut"},
+                         C.LineSettings(9600, 8, "even", 1), end=end)
+
+    cap = attempts(once)
+    assert cap.wire_bytes("a").count(ETX) >= 3, "the stations did not keep the line busy"
+    p = AsciiParams(cdt_ms=220, end_criterion="end_chars", end_chars=(ETX,), flow_control="xon_xoff")
+    an = A.analyze(cap, kit_for(p, p, {"a": "echo", "b": "echo"}), resolution=p.char_time + 0.002)
+    assert not fails(an), [f.message for f in fails(an)]
+    assert sum(1 for e in an.exchanges if e.verdict == R.PASS) >= 3
