@@ -349,6 +349,8 @@ class SeatRun:
         self.flags: dict[int, bool] = {}
         self.stage = 0
         self._applied = -1
+        #: the seat's byte whose explanation last waited for more of the line
+        self._waited, self._waited_at = -1, -inf
         self._tied = -inf
         self._snapshot: tuple | None = None
         self._held: list[tuple] = []
@@ -521,6 +523,19 @@ class SeatRun:
                 if self.stage == 1:
                     self._pending(t)
                 continue
+            if self._waited == self.i_obs:
+                # what the byte reveals waited for more of the line (live): ask once more
+                # before the byte stands as one the model does not send
+                self._waited = -1
+                idx = self.i_obs
+                # at the instant it waited (what it reveals happened then, as with the whole line)
+                r = self._retry(max(self._waited_at, self.st.now))
+                if r is WAIT:
+                    return "wait"
+                if self.failed:
+                    return "fail"
+                if self._applied == idx or self.i_obs != idx:
+                    continue
             # the seat's byte is due and neither the model nor a local event sends it
             self._unexpected(o, t)
             return "fail"
@@ -572,6 +587,8 @@ class SeatRun:
                 return None
         else:
             e = kit.explain(self, o, idx)
+            if e is WAIT:
+                self._waited, self._waited_at = idx, t
             if e is WAIT or e is None:
                 return e
         self._applied = idx

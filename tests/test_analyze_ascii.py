@@ -252,6 +252,34 @@ def test_analyze_exits_1_when_a_station_broke_a_rule_and_reports_it(sim_run, tmp
     assert cli_main(["report", str(tmp_path / "a.json"), "--html", str(tmp_path / "again.html")]) == 0
 
 
+def test_live_analysis_chunk_by_chunk_agrees_with_the_whole_capture(sim_run):
+    """What ptpcert monitor does (feed chunks as they come, judge up to a lag behind the
+    present) finds what the analysis of the whole capture finds, exchange by exchange."""
+    cap = C.load(sim_run / "run.json")
+    whole = A.analyze(cap, _run_kit(), restart_at_cases={"b"})
+    seen = []
+
+    class Listener:
+        def finding(self, f):
+            seen.append(f)
+
+        def exchange(self, line, e):
+            pass
+
+    line = A.LineAnalysis(_run_kit(), restart_at_cases={"b"}, listener=Listener())
+    marks = sorted(cap.marks, key=lambda m: m.t)
+    for ch in cap.chunks:
+        while marks and marks[0].t <= ch.t:
+            line.mark(marks.pop(0))
+        line.feed(ch)
+        line.advance(ch.t + 0.0005)
+    line.close(cap.end)
+    key = lambda f: (round(f.t, 4), f.seat, f.kind, f.grade)  # noqa: E731
+    assert whole.findings and [key(f) for f in line.findings()] == [key(f) for f in whole.findings]
+    assert sorted(map(key, seen)) == sorted(map(key, whole.findings))
+    assert [(e.first, e.last) for e in line.exchanges] == [(e.first, e.last) for e in whole.exchanges]
+
+
 # ------------------------------------------------------------------ broken variants
 
 #: where the manual states the rule each broken variant breaks (what its first finding must cite)
