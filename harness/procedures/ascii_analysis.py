@@ -61,7 +61,7 @@ from ..model.ascii import AsciiStation
 from ..model.ascii import events as aev
 from ..model.ascii.codec import char_name, send_bytes, split_frames
 from ..model.ascii.events import FrameDiscarded
-from ..model.ascii.params import BUFFER_BYTES, MAX_FRAME, XOFF_MARGIN
+from ..model.ascii.params import MAX_FRAME
 from ..model.ascii.readings import READINGS, AsciiReadings
 from ..model.ascii.station import Timer, Why
 from ..model.ascii.table import FcState, RxState, TxState
@@ -277,7 +277,7 @@ class AnalyzerAscii(ProcedureAnalyzer):
 
     def late_max(self, seat: str) -> float:
         p, q = self.params[seat], self.params[OTHER[seat]]
-        return max(q.cdt + 2 * q.char_time, self.late_abs + 0.25 * self._pause(p), self.late_abs)
+        return max(self._gap(p, q) + 2 * p.char_time, self.late_abs + 0.25 * self._pause(p))
 
     # -- stations -------------------------------------------------------------------------
     def _readings(self, readings: Any) -> AnalysisReadings:
