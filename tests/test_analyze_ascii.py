@@ -539,3 +539,24 @@ def test_ptpcert_iut_against_ptpcert_iut_is_judged_clean():
     an = A.analyze(cap, kit_for(p, p, {"a": "echo", "b": "echo"}), resolution=p.char_time + 0.002)
     assert not fails(an), [f.message for f in fails(an)]
     assert sum(1 for e in an.exchanges if e.verdict == R.PASS) >= 3
+
+
+def test_a_repeated_xoff_is_the_other_reading_of_q15():
+    """Q15: the model sends XOFF once; a station that repeats it while its partner keeps
+    sending takes the other reading: informational, never failed."""
+    p = AsciiParams(cdt_ms=20, end_criterion="end_chars", end_chars=(ETX,), flow_control="xon_xoff", buffer_frames=1)
+    c = p.char_time
+    chunks = [C.Chunk(round(c, 6), "a", bytes([p.xon])), C.Chunk(round(c, 6), "b", bytes([p.xon]))]
+    t = 1.0
+    for x in b"AB\x03":                         # a's frame fills b's buffer (one frame): XOFF
+        t += c
+        chunks.append(C.Chunk(round(t, 6), "a", bytes([x])))
+    chunks.append(C.Chunk(round(t + c, 6), "b", bytes([p.xoff])))
+    for x in b"CD":                             # a goes on; b says XOFF again
+        t += c
+        chunks.append(C.Chunk(round(t + c, 6), "a", bytes([x])))
+    chunks.append(C.Chunk(round(t + 2 * c, 6), "b", bytes([p.xoff])))
+    cap = C.Capture(chunks, line=C.LineSettings(9600, 8, "even", 1), marks=[C.Mark(0.0, "power-on")], end=t + 2.0)
+    an = A.analyze(cap, kit_for(p, p, {"a": "none", "b": "none"}), judge="b")
+    assert not fails(an), [f.message for f in fails(an)]
+    assert [(f.kind, f.readings) for f in an.findings] == [("reading", ("Q15",))], [f.message for f in an.findings]

@@ -127,6 +127,9 @@ class AnalysisReadings:
     model: AsciiReadings = READINGS
     a_reads_at_once: bool = False
     a_fixed_length_job_is_one_frame: bool = True
+    #: reading Q15 (no field of the model's: it sends XON and XOFF once): a station holding
+    #: its partner repeats its XOFF while the partner keeps sending (True), or not (False)
+    a_xoff_repeated: bool = False
 
 
 DEFAULT = AnalysisReadings()
@@ -157,8 +160,10 @@ class AsciiAnalysisHost:
             events = st.pop_events()
             out.extend(events)
             acted = False
-            if self.at_once:
-                while st.frames_stored and not (self.echo and st.pending_jobs):
+            # never while it holds its partner: the read that lifts an XOFF sends XON, and
+            # when that happened the line shows (the XON)
+            if self.at_once and st.fc_state is FcState.OPEN:
+                while st.frames_stored and st.fc_state is FcState.OPEN and not (self.echo and st.pending_jobs):
                     stored_at = st.oldest_stored_at
                     frame = st.read_frame(at)
                     acted = True
@@ -209,6 +214,13 @@ def _advance(st: AsciiStation, t: float) -> None:
     """Bring the station to ``t`` as an input at ``t`` does (its deadlines before ``t`` run
     out first): no characters received."""
     st.receive(t, b"")
+
+
+def _send_flow(st: AsciiStation, t: float, code: int) -> None:
+    """The station sends the flow-control character ``code`` once more (reading Q15's
+    other side: the model itself sends each only once)."""
+    _advance(st, t)
+    st._send_control(code)
 
 
 def _would_be_full(host: AsciiAnalysisHost) -> bool:
@@ -357,6 +369,8 @@ class AnalyzerAscii(ProcedureAnalyzer):
             if st.fc_state is FcState.OPEN and host.tentative and _would_be_full(host):
                 return Explanation(lambda r, t: r.host.unread(t),
                                    "its application had not read the frames it received (the XOFF shows it)")
+            if st.fc_state is FcState.HELD and host.readings.a_xoff_repeated:
+                return Explanation(lambda r, t: _send_flow(r.st, t, p.xoff))
             return None
         if p.flow_control == "xon_xoff" and b == p.xon:
             if st.fc_state is FcState.HELD and st.frames_stored:
@@ -778,6 +792,9 @@ class AnalyzerAscii(ProcedureAnalyzer):
                 Variant("a_fixed_length_job_is_one_frame",
                         "with send jobs of any length under the fixed-length criterion",
                         readings=replace(DEFAULT, a_fixed_length_job_is_one_frame=False)),
+                Variant("Q15", "with the other reading of the manual's open point Q15 (a station holding its "
+                               "partner repeats its XOFF while the partner keeps sending)",
+                        readings=replace(DEFAULT, a_xoff_repeated=True)),
             ] + [
                 Variant(name, f"with the other reading of the manual's open point {name} "
                               f"({_READING_WORDS.get(name, 'see ptpcert.model.ascii.readings')})",
