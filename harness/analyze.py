@@ -177,6 +177,12 @@ class ProcedureAnalyzer:
         the line must be seen first."""
         return None
 
+    def interjects(self, run: "SeatRun", item: "Item") -> bool:
+        """May the seat's ``item`` reveal a local event even where the model is about to send
+        a byte of its own (e.g. a flow-control character a station puts between two
+        characters of its frame)? Then :meth:`explain` is asked first."""
+        return False
+
     def before(self, item: "Item", inputs: list["Item"]) -> bool:
         """The seat's ``item`` began at the instant (within a microsecond) the other seat's
         ``inputs`` were complete: did what it reveals happen before the station took them in
@@ -206,6 +212,25 @@ class ProcedureAnalyzer:
     def startup_rule(self, seat: str) -> tuple[str, str, int | None]:
         """(rule, reference, code) of what a station sends at start-up."""
         return ("a station announces its start-up", "", None)
+
+    def announces_startup(self, seat: str) -> bool:
+        """Does the station in ``seat`` send something when it is switched on? (When it does
+        not, a power-on only starts its model afresh: there is no start-up output to expect.)"""
+        return True
+
+    def startup_name(self, seat: str) -> str:
+        """What a station sends at start-up, for people (e.g. "NAK")."""
+        return "announcement"
+
+    def entry_start(self, entry: Any) -> float:
+        """When the transmission ``entry`` of a station's explanation log (``tx_log``) began."""
+        return entry[0]
+
+    def continues(self, prev: Any, entry: Any) -> bool:
+        """Is ``entry`` of the explanation log the rest of the transmission ``prev`` (a log
+        that records a transmission in parts, e.g. once its schedule was delayed)? Its bytes
+        then keep ``prev``'s cause and count on from it."""
+        return False
 
     def cause(self, run: "SeatRun", entry: Any, k: int, byte: int) -> Cause:
         """Why the model (``run.host``) sends ``byte``, the ``k``-th of the transmission
@@ -324,6 +349,8 @@ class SeatRun:
         self.flags: dict[int, bool] = {}
         self.stage = 0
         self._applied = -1
+        #: the seat's byte whose explanation last waited for more of the line
+        self._waited, self._waited_at = -1, -inf
         self._tied = -inf
         self._snapshot: tuple | None = None
         self._held: list[tuple] = []
@@ -348,15 +375,19 @@ class SeatRun:
         log = self.st.tx_log
         if not log:
             return self.kit.cause(self, None, 0, b), None, 0
-        pos = self._log_pos
+        pos = old = self._log_pos
         n = len(log)
         moved = pos < 0
-        while pos + 1 < n and log[pos + 1][0] <= s + 1e-9:
+        start = self.kit.entry_start
+        while pos + 1 < n and start(log[pos + 1]) <= s + 1e-9:
             pos += 1
             moved = True
         if moved:
-            self._log_pos, self._log_k = max(pos, 0), 0
-            self._log_cause = None
+            if old >= 0 and pos > old and self.kit.continues(log[pos - 1], log[pos]):
+                self._log_pos = pos     # the same transmission, logged in two parts
+            else:
+                self._log_pos, self._log_k = max(pos, 0), 0
+                self._log_cause = None
         k = self._log_k
         self._log_k += 1
         entry = log[self._log_pos]
@@ -431,7 +462,8 @@ class SeatRun:
             if t_ob == t and stage == 0:
                 # a local event the seat's byte reveals goes before the inputs of its instant
                 # (two stations whose STXs cross both decided to send before hearing the other)
-                if st.transmitting and t_dl <= o.start + QUANTUM and not (self.lead and t < o.start - QUANTUM):
+                if (st.transmitting and t_dl <= o.start + QUANTUM and not (self.lead and t < o.start - QUANTUM)
+                        and not kit.interjects(self, o)):
                     self.stage, self._tied = 1, -inf   # the model is about to send a byte: compare
                     continue
                 idx = self.i_obs
@@ -491,6 +523,19 @@ class SeatRun:
                 if self.stage == 1:
                     self._pending(t)
                 continue
+            if self._waited == self.i_obs:
+                # what the byte reveals waited for more of the line (live): ask once more
+                # before the byte stands as one the model does not send
+                self._waited = -1
+                idx = self.i_obs
+                # at the instant it waited (what it reveals happened then, as with the whole line)
+                r = self._retry(max(self._waited_at, self.st.now))
+                if r is WAIT:
+                    return "wait"
+                if self.failed:
+                    return "fail"
+                if self._applied == idx or self.i_obs != idx:
+                    continue
             # the seat's byte is due and neither the model nor a local event sends it
             self._unexpected(o, t)
             return "fail"
@@ -535,12 +580,15 @@ class SeatRun:
             if e is None:
                 rule, ref, code = kit.startup_rule(self.judge.seat)
                 self.failed = Finding(self.judge.seat, o.t, R.FAIL, "start-up", rule, ref,
-                                      f"no start-up NAK: the station's first character after it was switched on "
+                                      f"no start-up {kit.startup_name(self.judge.seat)}: the station's first "
+                                      f"character after it was switched on "
                                       f"is {self._show(o)}; {rule} ({ref})",
                                       expected=rule, observed=self._show(o), codes=(code,) if code else ())
                 return None
         else:
             e = kit.explain(self, o, idx)
+            if e is WAIT:
+                self._waited, self._waited_at = idx, t
             if e is WAIT or e is None:
                 return e
         self._applied = idx
@@ -617,8 +665,9 @@ class SeatRun:
         o = obs[self.i_obs] if self.i_obs < len(obs) else None
         if o is not None and o.chunk not in self.flags:
             # a byte the model sends for a local event (its application's send job) may begin
-            # an exchange though a job was waiting
-            self.flags[o.chunk] = cause.kind == "local" and self.kit.begins(b)
+            # an exchange though a job was waiting (the first of its transmission: a frame's
+            # other characters continue the exchange it began)
+            self.flags[o.chunk] = cause.kind == "local" and k == 0 and self.kit.begins(b)
         if o is not None and o.kind == "byte" and o.value == b and lo <= o.t <= hi:
             # the usual case: the byte the model sends, in its window
             d = o.t - p
@@ -676,7 +725,7 @@ class SeatRun:
                 f"sent {self._show(o)} where the model sends {name}: {cause.rule} ({cause.reference})",
                 expected=f"{name} at {self._at(p)}", observed=f"{self._show(o)} at {self._at(o.t)}",
                 window=(lo, hi), codes=codes, rules=cause.rules,
-                order_free=k > 0 and entry is not None and not self._partner_between(entry[0], o.t))
+                order_free=k > 0 and entry is not None and not self._partner_between(self.kit.entry_start(entry), o.t))
             return True
         if o.t < lo:
             self.failed = Finding(
@@ -870,7 +919,8 @@ class SeatJudge:
         if run.expect_startup:
             rule, ref, code = self.kit.startup_rule(self.seat)
             self._emit(Finding(self.seat, run.t0, R.FAIL, "start-up", rule, ref,
-                               f"no start-up NAK after the station was switched on: {rule} ({ref})",
+                               f"no start-up {self.kit.startup_name(self.seat)} after the station was switched on: "
+                               f"{rule} ({ref})",
                                expected=rule, observed="nothing", codes=(code,) if code else ()))
 
     def _reset(self, reset: tuple[float, str, int, frozenset]) -> None:
@@ -885,7 +935,8 @@ class SeatJudge:
         self.settled = max(self.settled, chunk)
         i_in = self.analysis.index_of_chunk(self.inputs, chunk)
         i_obs = self.analysis.index_of_chunk(self.obs, chunk)
-        self.run = SeatRun(self, self.kit.fresh(self.seat, t), t, i_in, i_obs, expect_startup=self.seat in power)
+        self.run = SeatRun(self, self.kit.fresh(self.seat, t), t, i_in, i_obs,
+                           expect_startup=self.seat in power and self.kit.announces_startup(self.seat))
         self.lost_at = None
         self.anchored = True
 

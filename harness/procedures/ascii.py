@@ -406,6 +406,11 @@ class PAscii(Procedure):
         out.sort(key=lambda f: f["t0"])
         return out
 
+    # -- line analysis --------------------------------------------------------------------
+    def analyzer(self, params_a: AsciiParams, params_b: AsciiParams, *, apps=None, late_ms: float = 50.0):
+        from .ascii_analysis import AnalyzerAscii
+        return AnalyzerAscii(self, {"a": params_a, "b": params_b}, dict(apps or {}), late_ms)
+
     # -- broken variants and fuzzing ------------------------------------------------------
     def mutants(self) -> Mapping[str, Mutant]:
         from ..mutants_ascii import MUTANTS

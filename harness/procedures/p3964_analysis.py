@@ -351,6 +351,9 @@ class Analyzer3964(ProcedureAnalyzer):
             return Explanation(lambda r, t: r.replace_host(self.powered(seat, t)))
         return None
 
+    def startup_name(self, seat: str) -> str:
+        return "NAK"
+
     def startup_rule(self, seat: str) -> tuple[str, str, int | None]:
         row = T.TABLE[T.START_UP][T.POWER_ON]
         return _sentence(row.rule), row.ref, None

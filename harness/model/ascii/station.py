@@ -494,6 +494,16 @@ class AsciiStation:
         return len(self._jobs) + (self.job is not None)
 
     @property
+    def transmitting(self) -> bool:
+        """Characters are scheduled that :meth:`pop_output` has not handed out yet."""
+        return bool(self._line.runs)
+
+    @property
+    def has_events(self) -> bool:
+        """Events are waiting for :meth:`pop_events`."""
+        return bool(self._events)
+
+    @property
     def frames_stored(self) -> int:
         return len(self._stored)
 
