@@ -455,8 +455,8 @@ class _Frames:
                 if anchored:
                     self._missing(run, e)
                 probe.expect.remove(e)
+                self.overdue = self.overdue[-3:] + [e]
                 if e.origin == "P":
-                    self.overdue.append(e)
                     p.open, p.p_state, p._t_res_p = None, PState.IDLE, inf
                     self.plog = []
                 else:
@@ -490,8 +490,9 @@ class _Frames:
         p = self.passive
         e = p.first("P")
         if e is None:
-            if self.overdue:
-                self.overdue.pop(0)      # the late response, reported missing already
+            late = next((x for x in self.overdue if x.origin == "P"), None)
+            if late is not None:
+                self.overdue.remove(late)     # the late response, reported missing already
                 return
             if anchored:
                 self._finding(run, at, R.FAIL, "unexpected", _UNASKED,
@@ -542,6 +543,10 @@ class _Frames:
         a = self.active
         e = a.first("A")
         if e is None:
+            late = next((x for x in self.overdue if x.origin == "A"), None)
+            if late is not None:
+                self.overdue.remove(late)     # the late continuation, reported missing already
+                return
             if anchored:
                 self._finding(run, at, R.FAIL, "unexpected", _CONT_UNASKED,
                               f"sent RK 512 {K.describe(frame)} where no continuation is due: {_CONT_UNASKED[0]} "
@@ -798,12 +803,13 @@ class Rk512Analyzer(Analyzer3964):
     @staticmethod
     def _replay(params, readings, t_res, log, condition) -> _Probe:
         p = _Probe(params, readings, t_res=t_res)
-        if condition == "stop":
-            p.memory.running = False
-        for x in log:
+        last = max((i for i, x in enumerate(log) if x[0] == "rx"), default=-1)
+        for i, x in enumerate(log):
             if x[0] == "rx":
                 _, t, frame = x
                 p.at(t)
+                if condition == "stop" and i == last:
+                    p.memory.running = False      # the CPU went to STOP before this frame
                 if condition == "lock" and len(frame) >= K.HEADER_LEN and frame[0] == K.FIRST and frame[8] != K.NO_FLAG \
                         and p.memory.flag_exists(frame[8], frame[9] & 15):
                     p.memory.set_flag(frame[8], frame[9] & 15, p.readings.amb07_locked_value)
