@@ -177,6 +177,7 @@ class _Expect:
     since: float
     code: int | None
     reported: bool = False
+    partial_judged: bool = False
 
 
 class _Probe(Rk512Core):
@@ -194,8 +195,12 @@ class _Probe(Rk512Core):
         self.codes: list[tuple[float, int]] = []
 
     def _queue(self, frame, origin, owner, detail=""):
+        # the event the frame reports: its row's, or the one a check raised just before it
         row = self._row
-        self.expect.append(_Expect(bytes(frame), origin, owner, self.now, row.code if row is not None else None))
+        code = row.code if row is not None else None
+        if code is None and self.codes and self.codes[-1][0] >= self.now - _EPS:
+            code = self.codes[-1][1]
+        self.expect.append(_Expect(bytes(frame), origin, owner, self.now, code))
 
     def _status(self, code, side, final=False):
         self.codes.append((self.now, int(code)))
@@ -369,10 +374,37 @@ class _Frames:
             probe.codes = []
 
     # -- what the line shows --------------------------------------------------------------
-    def handed_over(self, t: float, payload: bytes) -> None:
+    def handed_over(self, run, t: float, payload: bytes, partial: bool) -> None:
+        """The seat began to send ``payload`` (its STX) at ``t``. ``partial``: the line shows
+        only its beginning (the recording, or a case of a run, ended inside the block, or the
+        block was cut off): what is there is judged now, for the whole frame never is."""
         if len(self.handed) > 8:
             self.handed.pop(next(iter(self.handed)))
         self.handed[bytes(payload)] = t
+        if not partial or len(payload) < 2 or not self._anchor(run):
+            return
+        frame = bytes(payload)
+        p = self.passive
+        p.at(t)
+        b3 = frame[2] if len(frame) >= 3 else 0
+        e = p.first("P")
+        if e is not None and (len(frame) < 3 or b3 == 0 or b3 not in K.COMMAND_LETTERS):
+            if e.partial_judged:
+                return
+            e.partial_judged = True
+            problem = _response_problem(frame, e.frame, partial=True)
+            if problem is not None:
+                self._alternatives(run, t, t, frame, e, problem, partial=True)
+            self._codes(run, self.passive)
+        elif len(frame) >= 4 and frame[0] == K.FIRST and (b3 not in K.COMMAND_LETTERS or len(frame) < K.HEADER_LEN):
+            # the beginning of a command: bytes 1 to 4 (Table 2-1)
+            head = frame[:4] + bytes((1, 0, 0, 1, K.NO_FLAG, 0xFF))
+            bad = self.kit.command_problem(self.seat, head)
+            if bad is not None and bad[0] in (Code.CMD_BYTE1_INVALID, Code.CMD_BYTE3_INVALID, Code.CMD_BYTE4_INVALID):
+                self._finding(run, t, R.FAIL, "wrong", _COMMAND,
+                              f"began RK 512 {K.describe(frame)} (its block not on record to its end): {bad[1]}; "
+                              f"a CP 341 responder refuses it with {Code(bad[0]).text}: {_COMMAND[0]} ({_COMMAND[1]})",
+                              expected="a command of Table 2-1", observed=frame.hex(" ").upper())
 
     def received(self, run, t: float, frame: bytes) -> None:
         """The seat accepted the partner's ``frame`` at ``t``."""
@@ -452,7 +484,8 @@ class _Frames:
                 if e.reported or self._due(e) > t + _EPS:
                     continue
                 e.reported = True
-                if anchored:
+                end = run.judge.end
+                if anchored and (end is None or self._due(e) <= end):     # (else the recording ended first)
                     self._missing(run, e)
                 probe.expect.remove(e)
                 self.overdue = self.overdue[-3:] + [e]
@@ -501,7 +534,7 @@ class _Frames:
                               expected="no RK 512 frame", observed=K.describe(frame),
                               codes=(Code.RESPONSE_OUT_OF_SEQUENCE,))
             return
-        problem = _response_problem(frame, e.frame)
+        problem = None if e.partial_judged else _response_problem(frame, e.frame)
         if problem is not None:
             self._alternatives(run, at, t, frame, e, problem)   # may follow the seat with another probe
             p = self.passive
@@ -512,14 +545,17 @@ class _Frames:
         p.acked(t, e)
         self.plog.append(("ack", t))
 
-    def _alternatives(self, run, at: float, t: float, frame: bytes, e: _Expect, problem: tuple[str, str]) -> None:
+    def _alternatives(self, run, at: float, t: float, frame: bytes, e: _Expect, problem: tuple[str, str],
+                      partial: bool = False) -> None:
         """The seat's response differs from the model's: a condition the line does not show,
         another reading of an open point, or the seat's T_RES at the edge of its tolerance
         may explain it; else the difference stands."""
         for name, kind, reading, probe in self.kit.passive_alternatives(self, self.plog):
             alt = probe.first("P")
-            if alt is None or _response_problem(frame, alt.frame) is not None:
+            if alt is None or _response_problem(frame, alt.frame, partial) is not None:
                 continue
+            if partial:
+                alt.partial_judged = True
             # follow the seat with the alternative from here on
             self.passive, self.pvariant = probe, (name, kind)
             text = (f"sent RK 512 {K.describe(frame)} where the model sends {K.describe(e.frame)}: {problem[0]}")
@@ -592,9 +628,17 @@ class _Frames:
             a.install(t, frame)
 
 
-def _response_problem(got: bytes, want: bytes) -> tuple[str, str] | None:
+def _response_problem(got: bytes, want: bytes, partial: bool = False) -> tuple[str, str] | None:
     """How the seat's response ``got`` differs from the model's ``want`` (data values aside):
-    (what, the manual's reference), or None."""
+    (what, the manual's reference), or None. ``partial``: only the beginning of the frame is
+    on record (the recording, or the case, ended inside its block): what is there is judged."""
+    if partial:
+        if len(got) > len(want) and (len(got) > 4 or got[:4] != want[:4]):
+            return _response_problem(got, want)
+        n = min(len(got), 4)
+        got, want = got[:n] + want[n:4], want[:4]
+        if got == want:
+            return None
     if len(got) < 4:
         return (f"a response has 4 bytes at least, this one {len(got)}", "Table 2-2; Table 8-1 16#0610")
     if got[0] != want[0]:
@@ -705,6 +749,9 @@ class Rk512Analyzer(Analyzer3964):
         self.rk = dict(rk_params)
         self._checker: dict[str, _Probe] = {}
         self._alts: list | None = None
+        self._cut: bytes | None = None
+        #: per seat, the latest block whose end the line does not show
+        self._partial: dict[str, bytes] = {}
 
     def quiet(self) -> float:
         """How long a quiet line must be before no RK 512 request can be open."""
@@ -731,10 +778,23 @@ class Rk512Analyzer(Analyzer3964):
         return self.begins(byte) and host.frames.resting
 
     # -- the frame layer's inputs ---------------------------------------------------------
+    def _seen(self, best: bytes, data: bytearray) -> bytes | None:
+        out = super()._seen(best, data)
+        self._cut = out         # the line shows no end of this block
+        return out
+
+    def _payload(self, run, index: int) -> Any:
+        self._cut = None
+        out = super()._payload(run, index)
+        if isinstance(out, bytes) and out == self._cut:
+            self._partial[run.judge.seat] = out
+        return out
+
     def _request(self, run, t: float, payload: bytes) -> None:
         frames = getattr(run.host, "frames", None)
         if frames is not None:
-            frames.handed_over(t, payload)
+            seat = run.judge.seat
+            frames.handed_over(run, t, payload, self._partial.get(seat) == payload)
         super()._request(run, t, payload)
 
     def event(self, run, e) -> None:
@@ -846,7 +906,7 @@ class Rk512Analyzer(Analyzer3964):
                 text = K.describe(f)
             words.append(f"{seat} {text}")
         text = ", ".join(words)
-        return text if len(text) <= 160 else text[:157] + "..."
+        return text if len(text) <= 240 else text[:237] + "..."
 
 
 def _frames_of(items, bcc: dict[str, bool]) -> list[tuple[str, bytes]]:
