@@ -60,7 +60,9 @@ from ..model.rk512.memory import Memory
 from ..model.rk512.params import Rk512Params
 from ..model.rk512.readings import RK512_READINGS
 from ..model.rk512.table import AInput, AState, PInput, PState
-from .p3964_analysis import Analyzer3964
+from ..analyze import Cause
+from ..model import codec as L
+from .p3964_analysis import _HIGH_KEEPS, Analyzer3964
 
 _EPS = 1e-9
 _WAITING = (AState.WAIT_RESPONSE, AState.WAIT_CONTINUATION_RESPONSE)
@@ -251,8 +253,13 @@ class _Probe(Rk512Core):
         self.at(t)
         h = K.decode_header(frame)
         fetch = h.is_fetch
-        frames = K.fetch_frames(h) if fetch else K.send_frames(h, bytes(h.nbytes))
-        frames[0] = bytes(frame)
+        frames = [bytes(frame)]
+        if fetch:
+            frames += [h.continuation] * (len(K.chunk_sizes(h.nbytes)) - 1)
+        else:
+            # the continuations that carry what the first frame did not (however many it did)
+            rest = h.nbytes - (len(frame) - K.HEADER_LEN)
+            frames += [h.continuation + bytes(n) for n in K.chunk_sizes(rest)] if rest > 0 else []
         req = SimpleNamespace(label=K.describe(frame), length=h.nbytes)
         job = _Job(req, h, frames, fetch)
         self.job = job
@@ -381,7 +388,7 @@ class _Frames:
         if len(self.handed) > 8:
             self.handed.pop(next(iter(self.handed)))
         self.handed[bytes(payload)] = t
-        if not partial or len(payload) < 2 or not self._anchor(run):
+        if not partial or not payload or not self._anchor(run):
             return
         frame = bytes(payload)
         p = self.passive
@@ -776,6 +783,16 @@ class Rk512Analyzer(Analyzer3964):
         """An STX begins an exchange only while no RK 512 request is open on the seat: a
         response, a continuation command belong to the exchange of their request."""
         return self.begins(byte) and host.frames.resting
+
+    def wrong(self, run, item, byte: int, cause: Cause) -> Cause:
+        """A high-priority station that answers the partner's crossing STX with DLE, where
+        the model sends its block after the partner's DLE, breaks the initialization
+        conflict's rule (Fig. 2-8), not the block's."""
+        inputs, k = run.judge.inputs, run.i_in
+        if (item.kind == "byte" and item.value == L.DLE and run.st.params.priority == "high" and k >= 2
+                and [(x.kind, x.value) for x in inputs[k - 2:k]] == [("byte", L.STX), ("byte", L.DLE)]):
+            return Cause("reply", *_HIGH_KEEPS, 0.0, 0.0, rules=("3964.CONFLICT.HIGH-WAITS",))
+        return super().wrong(run, item, byte, cause)
 
     # -- the frame layer's inputs ---------------------------------------------------------
     def _seen(self, best: bytes, data: bytearray) -> bytes | None:
