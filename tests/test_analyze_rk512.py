@@ -565,3 +565,36 @@ def test_an_rk512_variant_not_visible_on_the_wire_sends_what_a_conforming_statio
     cap.end = variant.now
     an = analyze(cap, params("high"), params("low"), judge="b")
     assert not fails(an), [f.message for f in fails(an)]
+
+
+def test_live_rk512_analysis_chunk_by_chunk_agrees_with_the_whole_capture(rk_run):
+    """What ptpcert monitor does: chunks fed as they are read, judged up to a lag behind the
+    clock; the findings (the tester's deliberate deviations, frames and link) and exchanges
+    are those of the whole capture."""
+    prof = load_profile(PROFILE)
+    cap = C.load(rk_run / "run.json")
+    kit = PROC.analyzer(PROC.tester_params(prof.params), prof.params)
+    whole = A.analyze(cap, kit, restart_at_cases={"b"})
+    assert fails(whole, "a")
+    seen = []
+
+    class Listener:
+        def finding(self, f):
+            seen.append(f)
+
+        def exchange(self, line, e):
+            pass
+
+    line = A.LineAnalysis(PROC.analyzer(PROC.tester_params(prof.params), prof.params), restart_at_cases={"b"},
+                          listener=Listener())
+    marks = sorted(cap.marks, key=lambda m: m.t)
+    for ch in cap.chunks:
+        while marks and marks[0].t <= ch.t:
+            line.mark(marks.pop(0))
+        line.feed(ch)
+        line.advance(ch.t + 0.0005)
+    line.close(cap.end)
+    key = lambda f: (round(f.t, 4), f.seat, f.kind, f.grade)  # noqa: E731
+    assert [key(f) for f in line.findings()] == [key(f) for f in whole.findings]
+    assert sorted(map(key, seen)) == sorted(map(key, whole.findings))
+    assert [(e.first, e.last) for e in line.exchanges] == [(e.first, e.last) for e in whole.exchanges]
