@@ -579,7 +579,8 @@ class _Frames:
         partner_code = _partner_sees(frame, e.frame)
         self._finding(run, at, R.FAIL, "wrong", (_RESPONSE_RULE, problem[1]),
                       f"sent RK 512 {K.describe(frame)} where the model sends {K.describe(e.frame)}: {problem[0]} "
-                      f"({problem[1]})" + (f"; the partner raises {Code(partner_code).text}" if partner_code else ""),
+                      f"({problem[1]})" + (f"; the model's responder raises {Code(e.code).text}" if e.code else "")
+                      + (f"; the partner raises {Code(partner_code).text}" if partner_code else ""),
                       expected=K.describe(e.frame), observed=K.describe(frame), codes=codes)
 
     def _continuation(self, run, at: float, t: float, frame: bytes, anchored: bool) -> None:
@@ -659,7 +660,7 @@ def _response_problem(got: bytes, want: bytes, partial: bool = False) -> tuple[s
             return (f"REATEL {got[3]:02X}h is no error number of Table 8-3 (the partner raises 16#090E); the "
                     f"model's checks give {want[3]:02X}h", "§8.4 Table 8-3; Table 8-1 16#090E")
         return (f"REATEL {got[3]:02X}h, the model's checks give {want[3]:02X}h"
-                + (f" ({K.status_for_reatel(want[3]).text})" if want[3] else ""),
+                + (f" (which the requester reports as {K.status_for_reatel(want[3]).text})" if want[3] else ""),
                 "§2.2.3 'Response message frame'; Fig. 2-19; §8.4 Table 8-3")
     if len(got) != len(want):
         if got[3]:
