@@ -232,6 +232,34 @@ def test_the_other_reading_of_an_open_point_is_informational():
     assert got == [("b", R.INFORMATIONAL, "reading", ("AMB-25",))], [f.message for f in an.findings]
 
 
+def test_a_requester_that_takes_the_other_reading_of_an_open_point_is_informational():
+    """AMB-16: a FETCH response chunk shorter than 128 bytes ends the request (16#0A03, the
+    model's reading), or is taken and the next asked for (a SEND/FETCH may be split
+    otherwise). b takes the other reading; a answers in chunks of 126 bytes (a broken
+    variant in seat a, not judged)."""
+    other = replace(RK512_READINGS, amb16_exact_chunks=False)
+    a = MUTANTS["fetch-chunks-126"].make(params("high"), name="a")
+    b = Rk512Station(params("low"), other, name="b")
+    link = settle(Link(a, b))
+    link.run_until(link.now + 5.0)
+    b.request(link.now + 0.05, "fetch DB10:DW0:LEN=300")
+    settle_run(link)
+    cap = link_capture(link)
+    cap.end = link.now
+    an = analyze(cap, params("high"), params("low"), judge="b")
+    got = [(f.grade, f.kind, f.readings) for f in an.findings]
+    assert got == [(R.INFORMATIONAL, "reading", ("AMB-16",))], [f.message for f in an.findings]
+    # the reference requester ends the request there: nothing to note
+    b = Rk512Station(params("low"), name="b")
+    link = settle(Link(MUTANTS["fetch-chunks-126"].make(params("high"), name="a"), b))
+    link.run_until(link.now + 5.0)
+    b.request(link.now + 0.05, "fetch DB10:DW0:LEN=300")
+    settle_run(link)
+    cap = link_capture(link)
+    cap.end = link.now
+    assert not analyze(cap, params("high"), params("low"), judge="b").findings
+
+
 # ------------------------------------------------------------------ runs of the suite
 
 

@@ -315,6 +315,8 @@ class _Frames:
         self.active = _Probe(self.params, name=f"{seat}-active")
         #: what the passive side took since it was last idle, to replay with alternatives
         self.plog: list[tuple] = []
+        #: what the active side did since the seat's request began, likewise
+        self.alog: list[tuple] = []
         #: the readings, condition or timing the passive probe follows now (None: the model's)
         self.pvariant: tuple | None = None
         self.anchored = anchored
@@ -326,7 +328,7 @@ class _Frames:
         # the analyzer and the parameters are shared; the probes and what was seen are copied
         new = copy.copy(self)
         memo[id(self)] = new
-        for k in ("passive", "active", "plog", "handed", "overdue"):
+        for k in ("passive", "active", "plog", "alog", "handed", "overdue"):
             setattr(new, k, copy.deepcopy(getattr(self, k), memo))
         return new
 
@@ -438,6 +440,7 @@ class _Frames:
         else:
             a = self.active
             a.at(t)
+            self.alog.append(("rsp", t, frame))
             a.frame_received(t, frame)
             for e in a.expect:
                 if e.since >= t - _EPS:
@@ -591,12 +594,15 @@ class _Frames:
             if late is not None:
                 self.overdue.remove(late)     # the late continuation, reported missing already
                 return
-            if anchored:
+            text = f"sent RK 512 {K.describe(frame)} where no continuation is due"
+            if anchored and not self._active_alternatives(run, at, t, frame, "continuation", text, _CONT_UNASKED):
                 self._finding(run, at, R.FAIL, "unexpected", _CONT_UNASKED,
-                              f"sent RK 512 {K.describe(frame)} where no continuation is due: {_CONT_UNASKED[0]} "
-                              f"({_CONT_UNASKED[1]})",
+                              f"{text}: {_CONT_UNASKED[0]} ({_CONT_UNASKED[1]})",
                               expected="no continuation command", observed=K.describe(frame))
-            return
+            if self.active.first("A") is None:
+                return
+            a = self.active
+            e = a.first("A")
         problem = None
         if len(frame) < 4 or frame[:4] != e.frame[:4]:
             problem = (f"its header is {frame[:4].hex(' ').upper()}, not {e.frame[:4].hex(' ').upper()}",)
@@ -609,6 +615,26 @@ class _Frames:
                           expected=K.describe(e.frame), observed=K.describe(frame))
         a.take("A")
         a.continued(t, e, frame)
+        self.alog.append(("cont", t, frame))
+
+    def _active_alternatives(self, run, at: float, t: float, frame: bytes, what: str, text: str,
+                             rule: tuple[str, str]) -> bool:
+        """The seat's request went on (a continuation) or ended (a new command) where the
+        model's did not: another reading of an open point, or the seat's T_RES at the edge of
+        its tolerance, may explain it. True (and the seat followed with it) when one does."""
+        for name, kind, reading, probe in self.kit.active_alternatives(self, self.alog, t):
+            if what == "continuation":
+                e = probe.first("A")
+                if e is None or frame[:4] != e.frame[:4] or len(frame) != len(e.frame):
+                    continue
+            elif probe.job is not None or probe.a_state is not AState.IDLE:
+                continue
+            self.active = probe
+            self._finding(run, at, R.INFORMATIONAL, "reading" if kind == "reading" else "timing", rule,
+                          f"{text} - but the model {name} follows the seat ({rule[1]})",
+                          observed=K.describe(frame), readings=(reading,) if reading else ())
+            return True
+        return False
 
     def _command(self, run, at: float, t: float, frame: bytes, anchored: bool) -> None:
         a = self.active
@@ -619,12 +645,14 @@ class _Frames:
                               observed=K.describe(frame), codes=())
             return
         if a.job is not None or a.a_state is not AState.IDLE or a.expect:
-            if anchored:
-                self._finding(run, at, R.FAIL, "unexpected", _DEPTH,
-                              f"sent RK 512 {K.describe(frame)} while its request "
-                              f"{a.job.label if a.job is not None else ''} is still open: {_DEPTH[0]} ({_DEPTH[1]})",
+            text = (f"sent RK 512 {K.describe(frame)} while its request "
+                    f"{a.job.label if a.job is not None else ''} is still open")
+            if anchored and not self._active_alternatives(run, at, t, frame, "command", text, _DEPTH):
+                self._finding(run, at, R.FAIL, "unexpected", _DEPTH, f"{text}: {_DEPTH[0]} ({_DEPTH[1]})",
                               expected="no new command", observed=K.describe(frame))
+            a = self.active
             a.drop_job()
+        self.alog = [("cmd", t, frame)]
         bad = self.kit.command_problem(self.seat, frame)
         if bad is not None:
             code, why = bad
@@ -871,6 +899,41 @@ class Rk512Analyzer(Analyzer3964):
                         f"({_READING_WORDS.get(name, 'see ptpcert.model.rk512.readings')})", "reading", name,
                         self._replay(params, replace(RK512_READINGS, **change), None, log, None)))
         return out
+
+    def active_alternatives(self, frames: _Frames, log: list[tuple], t: float):
+        """The active side replayed up to ``t`` with each alternative: (description, kind,
+        reading, probe)."""
+        params = frames.params
+        out = []
+        t_res = params.t_res
+        for factor in (0.95, 1.25):
+            tr = factor * t_res + (self.late_abs if factor > 1 else 0.0)
+            words = "early" if factor < 1 else "late"
+            out.append((f"with its T_RES running out {1000 * abs(tr - t_res):.0f} ms {words} (within the "
+                        "tolerance of a timer)", "timing", "", self._replay_active(params, RK512_READINGS, tr, log, t)))
+        for name, change in self._alternatives():
+            out.append((f"with the other reading of the manual's open point {name} "
+                        f"({_READING_WORDS.get(name, 'see ptpcert.model.rk512.readings')})", "reading", name,
+                        self._replay_active(params, replace(RK512_READINGS, **change), None, log, t)))
+        return out
+
+    @staticmethod
+    def _replay_active(params, readings, t_res, log, t: float) -> _Probe:
+        p = _Probe(params, readings, t_res=t_res)
+        for kind, at, frame in log:
+            if kind == "cmd":
+                if len(frame) >= K.HEADER_LEN and frame[2] in K.COMMAND_LETTERS and K.AREA_BY_CODE.get(frame[3]):
+                    p.install(at, frame)
+            elif kind == "rsp":
+                p.at(at)
+                p.frame_received(at, frame)
+            elif kind == "cont":
+                e = p.take("A")
+                if e is not None:
+                    p.continued(at, e, frame)
+        p.at(t)
+        p.codes = []
+        return p
 
     def _alternatives(self) -> list:
         if self._alts is None:
