@@ -463,8 +463,8 @@ class _Frames:
             self._continuation(run, at, t, frame, anchored)
         else:
             self._command(run, at, t, frame, anchored)
-        self._codes(run, p)
-        self._codes(run, a)
+        self._codes(run, self.passive)      # (an alternative may have taken a probe's place)
+        self._codes(run, self.active)
 
     def failed(self, run, t: float, frame: bytes) -> None:
         """The link gave up on the seat's ``frame``: the partner never took it."""
