@@ -248,8 +248,9 @@ class _Probe(Rk512Core):
             self._passive(PInput.RESPONSE_NOT_SENT)
 
     # -- the active side ------------------------------------------------------------------
-    def install(self, t: float, frame: bytes) -> None:
-        """The seat's first command frame ``frame`` was accepted: its job, awaiting the response."""
+    def install(self, t: float, frame: bytes, handed: float | None = None) -> None:
+        """The seat's first command frame ``frame`` (handed to the link at ``handed``) was
+        accepted at ``t``: its job, awaiting the response."""
         self.at(t)
         h = K.decode_header(frame)
         fetch = h.is_fetch
@@ -265,6 +266,12 @@ class _Probe(Rk512Core):
         self.job = job
         self.a_state = AState.SEND_COMMAND
         self._active(AInput.COMMAND_SENT)
+        self._handed(t if handed is None else handed)
+
+    def _handed(self, at: float) -> None:
+        """T_RES from the hand-over of the frame, where that reading is taken (AMB-17)."""
+        if self._tres_at_handover and self.job is not None:
+            self._t_res_a = at + self._t_res
 
     def drop_job(self) -> None:
         self.job = None
@@ -272,7 +279,7 @@ class _Probe(Rk512Core):
         self.a_state = AState.IDLE
         self.expect = [e for e in self.expect if e.origin != "A"]
 
-    def continued(self, t: float, e: _Expect, frame: bytes) -> None:
+    def continued(self, t: float, e: _Expect, frame: bytes, handed: float | None = None) -> None:
         """The seat's continuation command was accepted."""
         self.at(t)
         job = self.job
@@ -280,6 +287,7 @@ class _Probe(Rk512Core):
             if job.k < len(job.frames):
                 job.frames[job.k] = bytes(frame)
             self._active(AInput.COMMAND_SENT)
+            self._handed(t if handed is None else handed)
 
     def continuation_failed(self, t: float) -> None:
         self.at(t)
@@ -614,8 +622,8 @@ class _Frames:
                           f"{problem[0]}: {_CONT_RULE[0]} ({_CONT_RULE[1]})",
                           expected=K.describe(e.frame), observed=K.describe(frame))
         a.take("A")
-        a.continued(t, e, frame)
-        self.alog.append(("cont", t, frame))
+        a.continued(t, e, frame, at)
+        self.alog.append(("cont", t, frame, at))
 
     def _active_alternatives(self, run, at: float, t: float, frame: bytes, what: str, text: str,
                              rule: tuple[str, str]) -> bool:
@@ -652,7 +660,7 @@ class _Frames:
                               expected="no new command", observed=K.describe(frame))
             a = self.active
             a.drop_job()
-        self.alog = [("cmd", t, frame)]
+        self.alog = [("cmd", t, frame, at)]
         bad = self.kit.command_problem(self.seat, frame)
         if bad is not None:
             code, why = bad
@@ -661,7 +669,7 @@ class _Frames:
                           f"{Code(code).text}: {_COMMAND[0]} ({_COMMAND[1]})",
                           expected="a command of Table 2-1", observed=K.describe(frame))
         if len(frame) >= K.HEADER_LEN and frame[2] in K.COMMAND_LETTERS and K.AREA_BY_CODE.get(frame[3]) is not None:
-            a.install(t, frame)
+            a.install(t, frame, at)
 
 
 def _response_problem(got: bytes, want: bytes, partial: bool = False) -> tuple[str, str] | None:
@@ -920,17 +928,17 @@ class Rk512Analyzer(Analyzer3964):
     @staticmethod
     def _replay_active(params, readings, t_res, log, t: float) -> _Probe:
         p = _Probe(params, readings, t_res=t_res)
-        for kind, at, frame in log:
+        for kind, at, frame, *handed in log:
             if kind == "cmd":
                 if len(frame) >= K.HEADER_LEN and frame[2] in K.COMMAND_LETTERS and K.AREA_BY_CODE.get(frame[3]):
-                    p.install(at, frame)
+                    p.install(at, frame, *handed)
             elif kind == "rsp":
                 p.at(at)
                 p.frame_received(at, frame)
             elif kind == "cont":
                 e = p.take("A")
                 if e is not None:
-                    p.continued(at, e, frame)
+                    p.continued(at, e, frame, *handed)
         p.at(t)
         p.codes = []
         return p
