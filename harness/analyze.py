@@ -622,9 +622,6 @@ class SeatRun:
         r = self.res
         lo, hi = p - cause.early - r, p + cause.late + r
         o = obs[self.i_obs] if self.i_obs < len(obs) else None
-        nxt = j.analysis.next_reset(j.resets_done)
-        if o is not None and nxt is not None and o.chunk >= nxt[2]:
-            o = None        # the seat's next byte belongs to the next case of the run
         if o is not None and o.chunk not in self.flags:
             # a byte the model sends for a local event (its application's send job) may begin
             # an exchange though a job was waiting
@@ -661,12 +658,6 @@ class SeatRun:
                 # the recording ended before the byte was due: nothing to judge
                 self.failed = Finding(j.seat, p, R.INFORMATIONAL, "end", cause.rule, cause.reference,
                                       f"the recording ends before {name} was due", rules=cause.rules)
-                return True
-            if nxt is not None and hi > nxt[0]:
-                # the case ended (a run stops a case at its first divergence) before the byte
-                # was due: the next case does not show it
-                self.failed = Finding(j.seat, p, R.INFORMATIONAL, "end", cause.rule, cause.reference,
-                                      f"the case ends before {name} was due", rules=cause.rules)
                 return True
             if o is not None and o.kind == "byte" and o.value == b and o.t - hi < j.analysis.rest:
                 # (what a live analysis, deciding when the window closes, calls missing)
