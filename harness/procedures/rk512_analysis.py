@@ -33,6 +33,10 @@ the seat raises (reported with every exchange). A command, its continuation fram
 responses are one exchange (the seat's model is not at rest while a request is open),
 labelled e.g. "a SEND DB10 DW0 20 bytes, b REATEL 00".
 
+A frame whose block the line does not show to its end (the recording, or a case of a run,
+ended inside it) is judged by what is there: its first four bytes, and a length beyond the
+one due.
+
 Where the analysis joins a line whose requests may be open (after a difference that stood,
 on a line that was quiet for less than T_RES), the frame layer judges only what it can
 place: a response or continuation it cannot match is not judged until the line was quiet
@@ -49,10 +53,11 @@ from types import SimpleNamespace
 from typing import Any
 
 from .. import results as R
-from ..analyze import Finding, OTHER, SEATS
+from ..analyze import OTHER, SEATS, Cause, Finding
 from ..model import Host, Station3964
+from ..model import codec as L
 from ..model.codes import Code
-from ..model.events import Delivered, SendDone, SendFailed, Status
+from ..model.events import Delivered, SendDone, SendFailed
 from ..model.readings import READINGS
 from ..model.rk512 import codec as K
 from ..model.rk512.core import Rk512Core, _Job
@@ -60,8 +65,6 @@ from ..model.rk512.memory import Memory
 from ..model.rk512.params import Rk512Params
 from ..model.rk512.readings import RK512_READINGS
 from ..model.rk512.table import AInput, AState, PInput, PState
-from ..analyze import Cause
-from ..model import codec as L
 from .p3964_analysis import _HIGH_KEEPS, Analyzer3964
 
 _EPS = 1e-9
