@@ -440,8 +440,9 @@ class _Frames:
                 self.pvariant = None
                 if p.memory is not None:
                     p.memory.running = True
-                    if len(frame) >= K.HEADER_LEN and frame[8] != K.NO_FLAG and p.memory.flag_exists(frame[8], frame[9] & 15):
-                        p.memory.set_flag(frame[8], frame[9] & 15, 1 - p.readings.amb07_locked_value)
+                    flag = (frame[8], frame[9] & 15) if len(frame) >= K.HEADER_LEN else None
+                    if flag is not None and flag[0] != K.NO_FLAG and p.memory.flag_exists(*flag):
+                        p.memory.set_flag(*flag, 1 - p.readings.amb07_locked_value)
             self.plog.append(("rx", t, frame))
             p.frame_received(t, frame)
             for e in p.expect:
