@@ -197,6 +197,13 @@ class ProcedureAnalyzer:
         """Does a station's ``byte``, sent for a local event, begin an exchange (e.g. STX)?"""
         return False
 
+    def begins_in(self, host: Any, byte: int) -> bool:
+        """Does ``byte``, sent for a local event by the station of ``host`` (as it is when it
+        sends the byte), begin an exchange? By default :meth:`begins`; a procedure with a
+        layer above its blocks may say no while that layer has an exchange open (e.g. the
+        RK 512 response to a command)."""
+        return self.begins(byte)
+
     def resync_at(self, line: "LineAnalysis", k: int) -> int | None:
         """Where the line never goes quiet: does an exchange with both stations at rest begin
         in chunk ``k``, as its bytes and those before it show (a seat that is not followed
@@ -667,7 +674,7 @@ class SeatRun:
             # a byte the model sends for a local event (its application's send job) may begin
             # an exchange though a job was waiting (the first of its transmission: a frame's
             # other characters continue the exchange it began)
-            self.flags[o.chunk] = cause.kind == "local" and k == 0 and self.kit.begins(b)
+            self.flags[o.chunk] = cause.kind == "local" and k == 0 and self.kit.begins_in(self.host, b)
         if o is not None and o.kind == "byte" and o.value == b and lo <= o.t <= hi:
             # the usual case: the byte the model sends, in its window
             d = o.t - p

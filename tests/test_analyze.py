@@ -733,18 +733,19 @@ def test_tshark_reads_the_pcap_that_run_writes(sim_run):
 # ------------------------------------------------------------------ RK 512 at the link level
 
 
-def test_an_rk512_run_exported_with_pcap_is_analysed_at_the_link_level_clean_for_the_reference(tmp_path, capsys):
-    """RK 512 frames travel in 3964R blocks: until RK 512 has an analyzer of its own, a capture
-    of RK 512 traffic is judged at the link level (blocks, acknowledgements, retries), and the
-    bundled reference's seat is clean."""
+def test_an_rk512_run_exported_with_pcap_is_analysed_clean_for_the_reference(tmp_path, capsys):
+    """RK 512 frames travel in 3964R blocks: a capture of the whole RK 512 suite's traffic is
+    judged at the link level (blocks, acknowledgements, retries) and at the RK 512 level (what
+    the frames say), and the bundled reference's seat is clean (tests/test_analyze_rk512.py
+    judges the tester's seat and the broken variants)."""
     prof = ROOT / "conformance" / "profiles" / "rk512-reference.toml"
-    rc = cli_main(["run", "--iut", "sim:", "--profile", str(prof), "--select", "SUITE.RK512.L-0*",
-                   "--pcap", str(tmp_path / "rk.pcap"), "-q"])
+    rc = cli_main(["run", "--iut", "sim:", "--profile", str(prof), "--pcap", str(tmp_path / "rk.pcap"), "-q"])
     assert rc == 0
     cap = C.load(tmp_path / "rk.pcap")
-    assert cap.wire_bytes("b").count(STX) >= 5
+    assert cap.wire_bytes("b").count(STX) >= 200
     rc = cli_main(["analyze", str(tmp_path / "rk.pcap"), "--profile", str(prof), "--judge", "b",
                    "--json", str(tmp_path / "b.json"), "-q"])
     assert rc == 0, capsys.readouterr().out
     res = R.RunResult.read_json(tmp_path / "b.json")
-    assert len(res.cases) >= 5 and {c.verdict for c in res.cases} == {R.PASS}
+    assert len(res.cases) >= 300 and {c.verdict for c in res.cases} == {R.PASS}
+    assert any("REATEL" in c.title for c in res.cases)

@@ -449,14 +449,16 @@ class Rk512(Procedure):
 
     # -- line analysis --------------------------------------------------------------------
     def analyzer(self, params_a: Any, params_b: Any, *, apps=None, late_ms: float = 50.0):
-        """For now the link level only: both stations judged as the 3964(R) stations that
-        carry the RK 512 frames (blocks, acknowledgements, retries, timers, §2.2.2); a frame
-        a station sends (a command, or the response to one) is a send job the line reveals.
-        What the frames say (Table 8-3, the responses' REATEL) is not judged yet."""
+        """Both stations judged as the 3964(R) stations that carry the RK 512 frames (blocks,
+        acknowledgements, retries, timers, §2.2.2; a frame a station sends is a send job the
+        line reveals) and as RK 512 stations: what the frames say (command headers, Table 2-1;
+        continuation frames; responses and their REATEL, Table 2-2, Table 8-3; T_RES; nesting
+        depth 1, §2.2.3 'Quasi-full-duplex'), judged by the model's own RK 512 layer
+        (:mod:`ptpcert.procedures.rk512_analysis`). The memory behind a station is not on the
+        line: data values are not judged."""
         from .p3964 import P3964
-        from .p3964_analysis import Analyzer3964
-        return Analyzer3964(P3964(), {"a": params_a.line, "b": params_b.line}, {"a": "none", "b": "none"},
-                            late_ms)
+        from .rk512_analysis import Rk512Analyzer
+        return Rk512Analyzer(P3964(), {"a": params_a, "b": params_b}, late_ms)
 
     # -- broken variants and fuzzing ------------------------------------------------------
     def mutants(self) -> Mapping[str, Mutant]:
