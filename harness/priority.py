@@ -132,6 +132,40 @@ def sync() -> None:
         _state.raised = False
 
 
+#: how much lower the processes the harness starts ahead of their case run (their start-up,
+#: a Python interpreter's imports, must not take a CPU from the IUT under test); they are
+#: back at the normal level when their case takes them
+BACKGROUND_NICE = 10
+
+
+def granted() -> bool:
+    """Does the run have the real-time class (and so the privilege to give a process it
+    lowered its normal level back)?"""
+    return bool(_mode["granted"])
+
+
+def background(pid: int) -> bool:
+    """Lower the process group ``pid`` (an IUT started ahead, in a session of its own) while
+    it waits for its case, where the run may raise it again (:func:`granted`). True when
+    lowered."""
+    if not granted():
+        return False
+    try:
+        os.setpriority(os.PRIO_PGRP, pid, BACKGROUND_NICE)
+        return True
+    except OSError:
+        return False
+
+
+def foreground(pid: int) -> None:
+    """The process group ``pid``, lowered by :func:`background`, back at the normal level
+    for its case."""
+    try:
+        os.setpriority(os.PRIO_PGRP, pid, 0)
+    except OSError:
+        pass
+
+
 def describe(mode: str, granted: bool, why: str | None = None) -> str:
     if granted:
         return (f"real-time (SCHED_FIFO, priority {RT_PRIORITY}) for the harness's timing threads; the IUT and "

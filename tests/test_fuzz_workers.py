@@ -81,7 +81,15 @@ def test_workers_share_the_database_and_a_later_process_resumes_from_it(tmp_path
                      987654, database=str(db))
     camp.run()
     assert camp.findings
-    assert [s.to_toml() for s in first[0].steps] == [s.to_toml() for s in found[0].steps]
+    # The first example it runs is a saved finding. Each worker saved its own shrunk one and
+    # the export keeps one of them (one finding per rule), so it is either: the one exported,
+    # or another that fails the variant and not the reference (a fresh first example is a
+    # random program; seen once in CI: the other worker's finding came first).
+    if [s.to_toml() for s in first[0].steps] != [s.to_toml() for s in found[0].steps]:
+        again = Runner(make_factory(MUTANT, prof), prof, RunOptions(check_status=False)).run_case(first[0])
+        assert again.verdict == R.FAIL, (again.verdict, [s.to_toml() for s in first[0].steps])
+        assert len(first[0].steps) <= 2 * len(found[0].steps) + 2   # shrunk as the exported one is
+    assert Runner(make_factory("sim:", prof), prof, RunOptions()).run_case(first[0]).verdict == R.PASS
     assert Runner(make_factory("sim:", prof), prof, RunOptions()).run_case(found[0]).verdict == R.PASS
 
 

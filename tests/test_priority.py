@@ -130,3 +130,36 @@ def test_a_run_over_exec_has_a_real_time_harness_and_a_normal_iut(tmp_path):
     assert "harness scheduling: real-time" in p.stdout
     assert "harness scheduling" in (tmp_path / "r.html").read_text()
     assert int(mark.read_text()) == os.SCHED_OTHER
+
+
+@needs_rt
+def test_processes_started_ahead_wait_lowered_and_run_their_case_at_the_normal_level():
+    """An IUT started ahead of its case (exec:, a fresh process per case) must not take a
+    CPU from the IUT under test with its start-up: it waits at nice 10 and is back at 0 when
+    its case takes it. Without the real-time class (no privilege to raise it again) nothing
+    is lowered."""
+    from ptpcert.transport import ProcessFactory
+    from ptpcert.transport.process import ProcessTransport
+
+    def nice(t):
+        return os.getpriority(os.PRIO_PROCESS, t.proc.pid)
+
+    f = ProcessFactory(ProcessTransport, "sleep 30", parmrk=False, status=False, prespawn=2)
+    try:
+        with priority.harness("auto"):
+            first = f(None, None)                    # started for its case: never lowered
+            ahead = [t for ready in f._ready.values() for _, t in ready]
+            assert len(ahead) == 2 and all(nice(t) == priority.BACKGROUND_NICE for t in ahead)
+            assert nice(first) == 0
+            second = f(None, None)
+            assert second in ahead and nice(second) == 0
+            for t in (first, second):
+                t.close()
+        f.release()
+        with priority.harness("normal"):
+            third = f(None, None)
+            ahead = [t for ready in f._ready.values() for _, t in ready]
+            assert ahead and all(nice(t) == 0 for t in ahead)
+            third.close()
+    finally:
+        f.shutdown()

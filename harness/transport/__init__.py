@@ -11,6 +11,7 @@ import threading
 import time
 from typing import Any, Callable
 
+from .. import priority
 from .base import (BREAK, CHAR_ERROR, RESTART, SETUPS, STATUS, CloseInfo, IUTDied, Transport,
                    TransportError)
 
@@ -112,6 +113,9 @@ class ProcessFactory(Factory):
 
     def _ahead(self, command: str) -> None:
         t = self._started(command)   # outside the lock: other threads take theirs meanwhile
+        # its start-up must not take a CPU from the IUT under test: lowered while it waits
+        proc = getattr(t, "proc", None)
+        t.backgrounded = proc is not None and priority.background(proc.pid)
         with self._lock:
             self._ready.setdefault(command, []).append((time.monotonic(), t))
 
@@ -132,7 +136,12 @@ class ProcessFactory(Factory):
 
     def __call__(self, vector, params: Any) -> Transport:
         cmd = self.command_for(vector)
-        t = self._take(cmd) or self._started(cmd)
+        t = self._take(cmd)
+        if t is None:
+            t = self._started(cmd)
+        elif getattr(t, "backgrounded", False):
+            priority.foreground(t.proc.pid)     # its case begins: the normal level again
+            t.backgrounded = False
         self.reap()
         plain = self.plain
         while True:
