@@ -335,6 +335,22 @@ class CaseRun:
             self.consume()
             self.log[self.rx_log[self.pos - 1]]["skipped"] = True
 
+    #: how long a process IUT that sent nothing in a window is given to show it has ended
+    DEATH_GRACE = 0.1
+
+    def _look_for_death(self) -> None:
+        """Nothing came in the window: an IUT process that has ended, or ends within
+        DEATH_GRACE (a crash on a loaded machine takes a while), is reported as ended
+        (IUTDied) rather than as silence. The verdict is a fail either way."""
+        if self.realtime and RESTART in self.tr.capabilities:
+            # the grace comes after the window that decided: what the machine does to either
+            # process meanwhile does not touch the verdict's footing
+            kept = self.max_stall, self.iut_stall, self.iut_wait
+            end = self.tr.now() + self.DEATH_GRACE
+            while self.tr.now() < end:
+                self._pump(end)
+            self.max_stall, self.iut_stall, self.iut_wait = kept
+
     def fail(self, expected: str, observed: str, t: float, window=None, late_only=False):
         div = R.Divergence(self.step_index, self.rel(t), expected, observed,
                            None if window is None else (self.rel(window[0]), self.rel(window[1])))
@@ -465,6 +481,7 @@ class CaseRun:
                 self.forced += max(hi_nom, 0.0)  # the whole window had to be watched
                 return
             if first is None:
+                self._look_for_death()
                 self.fail(what + f" within {step.within}", "nothing received", hi, (self.ref + lo_nom, self.ref + hi_nom))
             t, b = first
             self.fail(what + f" within {step.within}",
