@@ -237,3 +237,46 @@ def test_profile_file_errors(tmp_path):
         load_profile(f)
     with pytest.raises(ProfileError, match="a reason"):
         profile_from_dict({"iut": GOOD, "expected_failures": {"X": ""}})
+
+
+# An IUT that only waits while two children of its own compete for one CPU: the run-queue
+# wait that exec: reports must be theirs (children included), and it keeps growing.
+_CROWDED = (f"{PY} -c \"import os, time\n"
+            "for _ in range(2):\n"
+            "    if os.fork() == 0:\n"
+            "        os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})\n"
+            "        end = time.monotonic() + 20\n"
+            "        while time.monotonic() < end: pass\n"
+            "        os._exit(0)\n"
+            "time.sleep(20)\"")
+
+
+def _open_fds() -> int:
+    return len(os.listdir("/proc/self/fd"))
+
+
+@pytest.mark.realtime
+@pytest.mark.skipif(not os.path.exists("/proc/self/task/%d/schedstat" % threading.get_native_id()),
+                    reason="no /proc schedstat here")
+def test_exec_reports_the_run_queue_wait_of_the_iut_and_its_children():
+    before = _open_fds()
+    tr = ExecTransport(_CROWDED, parmrk=False, status=False)
+    tr.open()
+    try:
+        first = None
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline:   # the children appear after their fork
+            w = tr.cpu_wait()
+            assert w is not None
+            first = w if first is None else first
+            if w - first >= 0.2:
+                break
+            time.sleep(0.01)
+        # two busy processes on one CPU: each waits about half the time; the parent sleeps
+        assert w - first >= 0.2, f"only {w - first:.3f} s of run-queue wait in 10 s"
+        later = [tr.cpu_wait() for _ in range(3)]
+        assert later == sorted(later) and later[0] >= w
+    finally:
+        tr.close()
+    assert tr.cpu_wait() is None
+    assert _open_fds() <= before, "cpu_wait's descriptors are closed with the transport"

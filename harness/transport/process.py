@@ -69,6 +69,8 @@ class ProcessTransport(Transport):
         self.capabilities = frozenset(caps)
         self.proc: subprocess.Popen | None = None
         self._no_schedstat = False
+        self._sched: dict[tuple[int, str], int] = {}   # (pid, tid) -> open schedstat descriptor
+        self._next_walk = 0.0
         self.parser = StatusParser()
         self._closed = False
         self._eof = False
@@ -225,14 +227,35 @@ class ProcessTransport(Transport):
             return None
         return False
 
+    #: how often cpu_wait walks the IUT's process tree again for new threads and children;
+    #: between walks it only re-reads the descriptors it keeps open (a few microseconds each)
+    TREE_WALK = 0.02
+
     def cpu_wait(self) -> float | None:
         """Linux: the run-queue wait of every thread of the IUT's process and its children
-        (/proc/PID/task/TID/schedstat, second field, nanoseconds). A thread or child that
-        ends while it is read is left out (its wait with it); where /proc has no schedstat at
-        all, None from then on."""
+        (/proc/PID/task/TID/schedstat, second field, nanoseconds), read through descriptors
+        kept open. A thread or child that ends is left out from then on (its wait with it);
+        one that starts is found at the next walk of the tree; where /proc has no schedstat
+        at all, None from then on."""
         if self.proc is None or self._closed or self._no_schedstat:
             return None
+        now = self.now()
+        if now >= self._next_walk:
+            if not self._walk_tree():
+                return None
+            self._next_walk = now + self.TREE_WALK
         total = 0
+        for key, fd in list(self._sched.items()):
+            try:
+                total += int(os.pread(fd, 256, 0).split()[1])
+            except (OSError, ValueError, IndexError):
+                os.close(fd)          # the thread ended
+                del self._sched[key]
+        return total / 1e9
+
+    def _walk_tree(self) -> bool:
+        """Open the schedstat of every thread of the IUT and its children not yet open;
+        False where there is nothing to read (the IUT is gone, or /proc has no schedstat)."""
         todo = [self.proc.pid]
         seen = 0
         while todo and seen < 64:
@@ -245,27 +268,35 @@ class ProcessTransport(Transport):
                 if pid == self.proc.pid:
                     if self.proc.poll() is None and not os.path.exists(f"/proc/{pid}"):
                         self._no_schedstat = True     # no /proc here
-                    return None
+                    return False
                 continue
             for tid in tasks:
-                try:
-                    with open(f"{base}/{tid}/schedstat", "rb") as f:
-                        total += int(f.read().split()[1])
-                except FileNotFoundError:
-                    if not os.path.exists(f"/proc/{pid}"):
+                key = (pid, tid)
+                if key not in self._sched:
+                    try:
+                        self._sched[key] = os.open(f"{base}/{tid}/schedstat", os.O_RDONLY | os.O_CLOEXEC)
+                    except FileNotFoundError:
+                        if not os.path.exists(f"/proc/{pid}") or not os.path.exists(f"{base}/{tid}"):
+                            continue          # the thread or process ended meanwhile
+                        self._no_schedstat = True     # a kernel without schedstats
+                        self._drop_sched()
+                        return False
+                    except OSError:
                         continue
-                    if not os.path.exists(f"{base}/{tid}"):
-                        continue          # the thread ended meanwhile
-                    self._no_schedstat = True         # a kernel without schedstats
-                    return None
-                except (OSError, ValueError, IndexError):
-                    continue
                 try:
                     with open(f"{base}/{tid}/children", "rb") as f:
                         todo.extend(int(c) for c in f.read().split())
                 except (OSError, ValueError):
                     pass
-        return total / 1e9
+        return True
+
+    def _drop_sched(self) -> None:
+        for fd in self._sched.values():
+            try:
+                os.close(fd)
+            except OSError:
+                pass
+        self._sched.clear()
 
     def status_reports(self) -> list[tuple[float, int]]:
         if self.proc is not None and not self._closed:
@@ -282,6 +313,7 @@ class ProcessTransport(Transport):
         if self.proc is None or self._closed:
             return info
         self._closed = True
+        self._drop_sched()
         proc = self.proc
         self._close_line()
         # Let the IUT see the end of its input and exit by itself (flushing its stderr),
