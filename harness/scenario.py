@@ -10,8 +10,10 @@ with its path, the field and what is wrong.
 from __future__ import annotations
 
 import ast
+import functools
 import hashlib
 import re
+import threading
 import tomllib
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -34,6 +36,25 @@ class ExprError(ValueError):
     pass
 
 
+#: CPython 3.11's ast module keeps its recursion count in one shared state: two threads
+#: parsing at once (run --jobs) can fail with "SystemError: AST constructor recursion depth
+#: mismatch" (python/cpython gh-106905). Each text is parsed once, under this lock; the
+#: trees are only read afterwards.
+_PARSE_LOCK = threading.Lock()
+
+
+@functools.lru_cache(maxsize=4096)
+def _parse_expr(text: str) -> ast.AST:
+    src = _UNIT.sub(lambda m: f"_{m.group(2)}({m.group(1)})", text)
+    try:
+        with _PARSE_LOCK:
+            tree = ast.parse(src, mode="eval").body
+    except SyntaxError:
+        raise ExprError(f"{text!r} is not an arithmetic expression") from None
+    _dimension(tree, text)
+    return tree
+
+
 @dataclass(frozen=True)
 class Expr:
     """A duration such as ``"CDT + 2*CHAR"``, ``"0.8*ADT"`` or ``"150ms"``. Bare numbers
@@ -45,13 +66,7 @@ class Expr:
         self._tree()  # validate now
 
     def _tree(self) -> ast.AST:
-        src = _UNIT.sub(lambda m: f"_{m.group(2)}({m.group(1)})", self.text)
-        try:
-            tree = ast.parse(src, mode="eval").body
-        except SyntaxError:
-            raise ExprError(f"{self.text!r} is not an arithmetic expression") from None
-        _dimension(tree, self.text)
-        return tree
+        return _parse_expr(self.text)
 
     def eval(self, env: dict[str, float]) -> float:
         return _eval(self._tree(), env)

@@ -161,3 +161,50 @@ def test_both_sides_of_the_conflict_figures_are_checked():
     bad = check_both_sides(same)
     assert bad is not None and not bad.ok and "byte" in bad.result.message
     assert check_both_sides(next(v for v in VECTORS if v.id == "3964R.D03.GARBAGE-IN-IDLE")) is None
+
+
+def test_time_expressions_are_parsed_once_and_never_by_two_threads_at_once(monkeypatch):
+    """run --jobs judges cases in threads. CPython 3.11's ast module must not parse in two
+    threads at once (gh-106905: "SystemError: AST constructor recursion depth mismatch",
+    seen as a harness fault in a --jobs run), and a text parsed before is not parsed again."""
+    import ast
+    import threading
+    import time
+
+    from ptpcert import scenario
+
+    scenario._parse_expr.cache_clear()
+    inside, most, calls = 0, 0, []
+    guard = threading.Lock()
+    real = ast.parse
+
+    def parse(src, *a, **kw):
+        nonlocal inside, most
+        with guard:
+            inside += 1
+            most = max(most, inside)
+            calls.append(src)
+        time.sleep(0.002)          # a thread switch in the middle of a parse
+        try:
+            return real(src, *a, **kw)
+        finally:
+            with guard:
+                inside -= 1
+
+    monkeypatch.setattr(scenario.ast, "parse", parse)
+    texts = [f"{k}*CDT + {i}*CHAR" for k in range(4) for i in range(10)]
+
+    def work(k):
+        for t in texts[k::4] + texts:
+            assert Expr(t).eval({"CDT": 1.0, "CHAR": 0.5}) >= 0
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(4)]
+    for th in threads:
+        th.start()
+    for th in threads:
+        th.join()
+    assert most == 1, f"{most} threads parsed at once"
+    assert set(calls) == set(texts)
+    calls.clear()
+    work(0)
+    assert calls == [], "a text parsed before is not parsed again"
