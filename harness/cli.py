@@ -176,7 +176,10 @@ def _model(args) -> int:
     return 0
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The whole command line; with ``command="iut"`` the commands whose modules the
+    reference IUT's start-up need not load (capture, analyze, monitor, rules) are left out:
+    an exec: IUT is started for every case, so its start-up is part of every case's time."""
     ap = Parser(
         prog="ptpcert",
         description="Conformance test suite and fuzzer for the CP 340/341/441 point-to-point "
@@ -209,6 +212,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     from . import cli_run
     cli_run.add_commands(sub)
+    if command == "iut":
+        return ap
     from . import cli_capture
     cli_capture.add_commands(sub)
     from . import cli_analyze
@@ -219,7 +224,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = build_parser()
+    words = sys.argv[1:] if argv is None else argv
+    ap = build_parser("iut" if words[:1] == ["iut"] else None)
     args = ap.parse_args(argv)
     if not getattr(args, "func", None):
         ap.print_help()

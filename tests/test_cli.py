@@ -5,6 +5,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable
 
@@ -61,3 +63,26 @@ def test_report_renders_a_saved_run(tmp_path):
     bad.write_text("{}")
     p = cli("report", str(bad))
     assert p.returncode == 2 and "not a ptpcert results object" in p.stderr
+
+
+def test_the_reference_iut_starts_without_what_it_does_not_need():
+    """An exec: IUT is started for every case, so its start-up is part of every case's
+    time: `ptpcert iut` (3964R) loads neither the ASCII station nor the capture and
+    analysis modules."""
+    done = subprocess.run([PY, "-X", "importtime", "-m", "ptpcert.cli", "iut", "--cdt-ms", "20",
+                           "--adt-ms", "20", "--parmrk"], stdin=subprocess.DEVNULL, capture_output=True,
+                          text=True, timeout=60)
+    loaded = {line.rsplit("|", 1)[-1].strip() for line in done.stderr.splitlines() if line.startswith("import time:")}
+    assert "ptpcert.model.station" in loaded and "ptpcert.iut" in loaded   # the import log is read
+    for heavy in ("ptpcert.model.ascii.station", "ptpcert.capture", "ptpcert.cli_analyze", "ptpcert.cli_rules"):
+        assert heavy not in loaded, f"ptpcert iut loads {heavy}"
+
+
+def test_the_ascii_model_loads_each_name_on_first_use():
+    import ptpcert.model.ascii as m
+
+    for name in m.__all__:
+        assert getattr(m, name) is not None
+    assert m.AsciiStation.__module__ == "ptpcert.model.ascii.station"
+    with pytest.raises(AttributeError):
+        m.NoSuchName

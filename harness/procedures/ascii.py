@@ -39,9 +39,8 @@ from __future__ import annotations
 from dataclasses import fields
 from typing import Any, Mapping
 
-from ..model.ascii import AsciiHost, AsciiParams, AsciiStation
 from ..model.ascii.codec import char_name, send_bytes, split_frames
-from ..model.ascii.params import (END_CRITERIA, FLOW_CONTROLS, INTERFACES, MAX_CDT_MS, MIN_CDT_MS,
+from ..model.ascii.params import (AsciiParams, END_CRITERIA, FLOW_CONTROLS, INTERFACES, MAX_CDT_MS, MIN_CDT_MS,
                                   PROFILE_KEYS, SEND_VARIANTS)
 from ..model.ascii.readings import READINGS
 from ..model.line import LineSettings
@@ -268,9 +267,11 @@ class PAscii(Procedure):
             if m is None:
                 raise ProcedureError("mutant", f"unknown broken variant {mutant!r}; known: {', '.join(self.mutants())}")
             return m.make(params, name=name)
+        from ..model.ascii.station import AsciiStation
         return AsciiStation(params, readings if readings is not None else READINGS, name=name, explain=explain)
 
     def host(self, station: AsciiStation, *, app: str = "echo", vector=None) -> AsciiHost:
+        from ..model.ascii.app import AsciiHost
         return AsciiHost(station, app)
 
     def sim_host(self, params: AsciiParams, vector, options: dict[str, str], readings=None) -> AsciiHost:
@@ -279,6 +280,7 @@ class PAscii(Procedure):
         setup = vector.setup if vector is not None else None
         if setup is not None and setup[0] == "slow_reader":
             read_delay = float(setup[1].get("ms", SLOW_READER_MS)) / 1000.0
+        from ..model.ascii.app import AsciiHost
         host = AsciiHost(station, options.get("app", "echo"), read_delay=read_delay)
         if setup is not None and setup[0] == "send_job":
             for job in parse_jobs(setup[1].get("jobs", "")):
@@ -341,6 +343,7 @@ class PAscii(Procedure):
         if args.echo_delay_ms < 0:
             raise ProcedureError("--echo-delay-ms", "must not be negative")
         station = self.station(params, mutant=args.mutant)
+        from ..model.ascii.app import AsciiHost
         host = AsciiHost(station, args.app, read_delay=args.echo_delay_ms / 1000.0)
         try:
             jobs = parse_jobs(",".join(getattr(args, "send", ())))

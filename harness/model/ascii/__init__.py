@@ -2,13 +2,37 @@
 points, the transition tables, the sans-IO station and its application. Standard library
 only; no clocks, no I/O."""
 
-from . import codec, events, table
-from .app import APPS, AsciiHost
-from .codec import Piece, char_name, describe, send_bytes, split_frames
-from .events import FrameDiscarded, FrameStored
-from .params import AsciiParams
-from .readings import READINGS, AsciiReadings
-from .station import AsciiJob, AsciiStation, SignalRecord, Timer, TxRecord, Why
+import importlib as _importlib
+
+# Each name is loaded from its module on first use (PEP 562), so that a program that needs
+# only the parameters or the codec (the 3964R reference IUT, whose command line knows every
+# procedure's options) does not pay for the station and its tables at start-up.
+_WHERE = {
+    "codec": None, "events": None, "table": None,
+    "APPS": "app", "AsciiHost": "app",
+    "Piece": "codec", "char_name": "codec", "describe": "codec", "send_bytes": "codec",
+    "split_frames": "codec",
+    "FrameDiscarded": "events", "FrameStored": "events",
+    "AsciiParams": "params",
+    "READINGS": "readings", "AsciiReadings": "readings",
+    "AsciiJob": "station", "AsciiStation": "station", "SignalRecord": "station", "Timer": "station",
+    "TxRecord": "station", "Why": "station",
+}
+
+
+def __getattr__(name: str):
+    if name not in _WHERE:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    where = _WHERE[name]
+    module = _importlib.import_module(f".{where or name}", __name__)
+    value = module if where is None else getattr(module, name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_WHERE))
+
 
 __all__ = [
     "codec", "events", "table", "APPS", "AsciiHost", "Piece", "char_name", "describe",
