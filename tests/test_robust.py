@@ -334,12 +334,20 @@ def test_a_10_mb_flood_over_the_whole_suite_gives_small_reports_quickly(tmp_path
     result = flood_run(10_000_000, None)
     ran = [c for c in result.cases if c.verdict != R.UNSUPPORTED]
     assert len(ran) > 100
+    flooded = 0
     for c in ran:
-        assert c.verdict == R.FAIL and "more than 20000 bytes" in c.message, (c.id, c.verdict, c.message)
+        assert c.verdict == R.FAIL, (c.id, c.verdict, c.message)
         iut = sum(len(v) for _, d, k, v, _ in R.wire_runs(c.transcript) if d == "iut" and k == "byte")
-        assert iut == 20000
-        (mark,) = [e for e in c.transcript if e["kind"] == "dropped"]
-        assert mark["bytes"] > 0 and mark["kept"] == 20000
+        assert iut <= 20000
+        if "more than 20000 bytes" in c.message:
+            flooded += 1
+            assert iut == 20000
+            (mark,) = [e for e in c.transcript if e["kind"] == "dropped"]
+            assert mark["bytes"] > 0 and mark["kept"] == 20000
+        # else: the case failed at the first wrong byte before the flood limit was reached
+        # (random bytes can begin with the expected one, e.g. the start-up NAK, and a read
+        # may end inside the flooder's first write): a fail as well, with a shorter transcript
+    assert flooded >= 0.9 * len(ran), f"only {flooded} of {len(ran)} cases reached the flood limit"
     args = Namespace(json=str(tmp_path / "results.json"), junit=str(tmp_path / "junit.xml"),
                      html=str(tmp_path / "report.html"))
     t = time.monotonic()
