@@ -166,6 +166,13 @@ def foreground(pid: int) -> None:
         pass
 
 
+def run_queue_wait_ns(fd: int) -> int:
+    """The run-queue wait of a thread so far, in nanoseconds, from its /proc schedstat
+    opened as ``fd`` (second field: time runnable on a run queue but not running). Raises
+    OSError when the thread has ended, ValueError/IndexError on a file of another form."""
+    return int(os.pread(fd, 256, 0).split()[1])
+
+
 def describe(mode: str, granted: bool, why: str | None = None) -> str:
     if granted:
         return (f"real-time (SCHED_FIFO, priority {RT_PRIORITY}) for the harness's timing threads; the IUT and "

@@ -17,6 +17,7 @@ from typing import Callable, Iterable
 
 from typing import Any
 
+from . import priority
 from . import results as R
 from .model import codec
 from .model.events import Delivered, status_text
@@ -85,7 +86,7 @@ class OwnCpuWait:
         if self.fd is None:
             return None
         try:
-            return int(os.pread(self.fd, 64, 0).split()[1]) / 1e9
+            return priority.run_queue_wait_ns(self.fd) / 1e9
         except (OSError, ValueError, IndexError):
             return None
 

@@ -270,9 +270,9 @@ class PAscii(Procedure):
         from ..model.ascii.station import AsciiStation
         return AsciiStation(params, readings if readings is not None else READINGS, name=name, explain=explain)
 
-    def host(self, station: AsciiStation, *, app: str = "echo", vector=None) -> AsciiHost:
-        from ..model.ascii.app import AsciiHost
-        return AsciiHost(station, app)
+    def host(self, station: AsciiStation, *, app: str = "echo", vector=None, read_delay: float = 0.0) -> AsciiHost:
+        from ..model.ascii.app import AsciiHost     # loaded where a station runs, not at start-up
+        return AsciiHost(station, app, read_delay=read_delay)
 
     def sim_host(self, params: AsciiParams, vector, options: dict[str, str], readings=None) -> AsciiHost:
         station = self.station(params, mutant=options.get("mutant") or None, readings=readings)
@@ -280,8 +280,7 @@ class PAscii(Procedure):
         setup = vector.setup if vector is not None else None
         if setup is not None and setup[0] == "slow_reader":
             read_delay = float(setup[1].get("ms", SLOW_READER_MS)) / 1000.0
-        from ..model.ascii.app import AsciiHost
-        host = AsciiHost(station, options.get("app", "echo"), read_delay=read_delay)
+        host = self.host(station, app=options.get("app", "echo"), read_delay=read_delay)
         if setup is not None and setup[0] == "send_job":
             for job in parse_jobs(setup[1].get("jobs", "")):
                 station.request_send(0.0, job)
@@ -343,8 +342,7 @@ class PAscii(Procedure):
         if args.echo_delay_ms < 0:
             raise ProcedureError("--echo-delay-ms", "must not be negative")
         station = self.station(params, mutant=args.mutant)
-        from ..model.ascii.app import AsciiHost
-        host = AsciiHost(station, args.app, read_delay=args.echo_delay_ms / 1000.0)
+        host = self.host(station, app=args.app, read_delay=args.echo_delay_ms / 1000.0)
         try:
             jobs = parse_jobs(",".join(getattr(args, "send", ())))
         except ValueError as exc:

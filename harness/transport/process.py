@@ -25,6 +25,7 @@ import time
 import tty
 import weakref
 
+from .. import priority
 from .base import (BREAK, CHAR_ERROR, RESTART, STATUS, CloseInfo, IUTDied, StatusParser,
                    Transport, TransportError)
 
@@ -247,7 +248,7 @@ class ProcessTransport(Transport):
         total = 0
         for key, fd in list(self._sched.items()):
             try:
-                total += int(os.pread(fd, 256, 0).split()[1])
+                total += priority.run_queue_wait_ns(fd)
             except (OSError, ValueError, IndexError):
                 os.close(fd)          # the thread ended
                 del self._sched[key]
