@@ -624,10 +624,6 @@ class Finding:
         return "\n".join(lines)
 
 
-class _BudgetOver(Exception):
-    pass
-
-
 class _Found(Exception):
     def __init__(self, finding: Finding):
         self.finding = finding
@@ -707,7 +703,8 @@ class Campaign:
         seen_rules: set[str] = set()
         db = open_database(self.database)
         base = settings.get_profile(self.settings_profile)
-        while time.monotonic() < end:
+        over = False
+        while time.monotonic() < end and not over:
             gen = self.kit.generator(self.profile, self.max_actions)
             campaign = self
             round_seed = self.seed + rnd * self.workers + self.worker
@@ -718,9 +715,15 @@ class Campaign:
             @hseed(round_seed)
             @given(st.data())
             def example(data):
+                nonlocal over
                 now = time.monotonic()
                 if campaign._unshrunk is None and now >= end:
-                    raise _BudgetOver          # generating: the budget is spent
+                    # generating: the budget is spent. The example passes without a draw, so
+                    # hypothesis ends the round; raising here would make it a failure, which
+                    # hypothesis shrinks and saves in the example database, where a later
+                    # campaign would replay it first as if it were a finding
+                    over = True
+                    return
                 if campaign._unshrunk is not None and now >= max(end, campaign._shrink_until):
                     campaign._release()        # no IUT is needed any more in this round
                     return                     # shrinking has had its time: keep what it has
@@ -758,8 +761,6 @@ class Campaign:
             self._unshrunk = None
             try:
                 example()
-            except _BudgetOver:
-                break
             except Exception as exc:
                 # a real IUT may not repeat a divergence while hypothesis shrinks it
                 # (Flaky): keep the smallest failing example seen, unshrunk
