@@ -4,10 +4,14 @@ wait for it to drain, seen over a pipe). Otherwise the reference model driven as
 iut`` drives it, with no pacing: once its block is written it waits for the release DLE.
 STATUS lines on stderr, PARMRK marks read.
 
-    whole_block.py [--cdt-ms N] [--adt-ms N] [--ignore-other-in-release]
+    whole_block.py [--cdt-ms N] [--adt-ms N] [--ignore-other-in-release] [--trace DIR]
 
 ``--ignore-other-in-release`` breaks the release rule (§2.2.2 Send/release: any character
 other than DLE is a failed attempt): such a character is ignored while it waits for DLE.
+
+``--trace DIR`` writes DIR/<pid>.trace: every look at the input and every write, on the
+monotonic clock the harness's transcript is timed by (its ``origin``), with the process's
+CPU time and run-queue wait, to tell a late harness from a late stand-in.
 """
 import argparse
 import os
@@ -27,21 +31,37 @@ class OneWrite(StdioEndpoint):
         super().__init__(parmrk=True)
         self.buffer = bytearray()
 
+    trace = None
+
     def write(self, data):
         self.buffer += data
         return self.now()
 
     def poll(self, deadline):
         if self.buffer:
+            t = self.now()
             os.write(self.fd_out, bytes(self.buffer))
+            self._log(f"W {t:.6f} {bytes(self.buffer).hex()}")
             self.buffer.clear()
-        return super().poll(deadline)
+        if self.trace is None:
+            return super().poll(deadline)
+        t = self.now()
+        got = super().poll(deadline)
+        self._log(f"P {t:.6f} {deadline:.6f} {self.now():.6f} " + " ".join(f"{x[0]:.6f}:{x[1]}:{x[2]}" for x in got))
+        return got
+
+    def _log(self, line):
+        if self.trace is not None:
+            with open("/proc/self/schedstat") as f:
+                run, wait, _ = f.read().split()
+            self.trace.write(f"{line} cpu={int(run) / 1e9:.6f} wait={int(wait) / 1e9:.6f}\n")
 
 
 ap = argparse.ArgumentParser()
 ap.add_argument("--cdt-ms", type=int, default=20)
 ap.add_argument("--adt-ms", type=int, default=20)
 ap.add_argument("--ignore-other-in-release", action="store_true")
+ap.add_argument("--trace", metavar="DIR")
 args = ap.parse_args()
 
 
@@ -60,12 +80,15 @@ class IgnoresOtherInRelease(Station3964):
 params = Params3964(procedure="3964R", cdt_ms=args.cdt_ms, adt_ms=args.adt_ms, baud_rate=None)
 st = (IgnoresOtherInRelease if args.ignore_other_in_release else Station3964)(params, name="iut")
 ep = OneWrite()
+if args.trace:
+    ep.trace = open(os.path.join(args.trace, f"{os.getpid()}.trace"), "w", buffering=1)
 
 
 def on_event(e):
     if isinstance(e, Status):
         sys.stderr.write(f"STATUS 16#{e.code:04X}\n")
         sys.stderr.flush()
+        ep._log(f"S {ep.now():.6f} 16#{e.code:04X}")
 
 
 st.power_on(ep.now())
