@@ -37,7 +37,7 @@ flow control.
 from __future__ import annotations
 
 from dataclasses import fields
-from typing import Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping
 
 from ..model.ascii.codec import char_name, send_bytes, split_frames
 from ..model.ascii.params import (AsciiParams, END_CRITERIA, FLOW_CONTROLS, INTERFACES, MAX_CDT_MS, MIN_CDT_MS,
@@ -46,6 +46,10 @@ from ..model.ascii.readings import READINGS
 from ..model.line import LineSettings
 from ..model.params import BAUD_RATES, ParameterError
 from ..procedure import Mutant, Procedure, ProcedureError
+
+if TYPE_CHECKING:   # the station and its host are imported where one is built (start-up)
+    from ..model.ascii.app import AsciiHost
+    from ..model.ascii.station import AsciiStation
 
 #: [iut] keys of an ASCII profile besides the common ones (procedure, send_trigger...)
 IUT_KEYS = ("character_delay_ms", "baud_rate", "data_bits", "parity", "stop_bits")

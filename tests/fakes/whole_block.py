@@ -30,8 +30,9 @@ class OneWrite(StdioEndpoint):
     def __init__(self):
         super().__init__(parmrk=True)
         self.buffer = bytearray()
+        self.trace = None      # --trace: the trace file
+        self.sched = None      # --trace: /proc/self/schedstat, kept open
 
-    trace = None
 
     def write(self, data):
         self.buffer += data
@@ -52,8 +53,7 @@ class OneWrite(StdioEndpoint):
 
     def _log(self, line):
         if self.trace is not None:
-            with open("/proc/self/schedstat") as f:
-                run, wait, _ = f.read().split()
+            run, wait, _ = os.pread(self.sched, 256, 0).split()
             self.trace.write(f"{line} cpu={int(run) / 1e9:.6f} wait={int(wait) / 1e9:.6f}\n")
 
 
@@ -82,6 +82,7 @@ st = (IgnoresOtherInRelease if args.ignore_other_in_release else Station3964)(pa
 ep = OneWrite()
 if args.trace:
     ep.trace = open(os.path.join(args.trace, f"{os.getpid()}.trace"), "w", buffering=1)
+    ep.sched = os.open("/proc/self/schedstat", os.O_RDONLY)
 
 
 def on_event(e):
