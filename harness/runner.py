@@ -244,16 +244,35 @@ class CaseRun:
             items = self.tr.read(deadline)
         limit = self.opts.flood_limit
         room = max(0, limit - len(self.rx))
-        for t, b in items[:room]:
-            self.rx.append((t, b))
-            self.rx_floor.append(looked if self.realtime else t)
-            if self.realtime:
-                self.lower_bound[len(self.log)] = self.rel(looked)
-            self.rx_log.append(len(self.log))
-            self._record({"t": self.rel(t), "dir": "iut", "kind": "byte", "byte": b, "step": self.step_index})
+        if items:
+            self._take_in(items[:room], looked if self.realtime else None)
         if len(items) > room:
             self._drop("iut", len(items) - room, items[room][0])
             raise Flood(f"the IUT sent more than {limit} bytes in one case (the transcript keeps the first {limit})")
+
+    def _take_in(self, items: list[tuple[float, int]], looked: float | None) -> None:
+        """Keep the IUT's bytes of one read: received, stamped and logged. This is the
+        harness's inner loop while an IUT sends a long block (a 1024-byte block stuffed with
+        DLEs is 2,051 bytes in one read), and the tester's reply as a partner waits for it: so
+        it is kept to plain list and dict work per byte (the same as ``_record`` per byte)."""
+        self.rx.extend(items)
+        log, rx_log, step = self.log, self.rx_log, self.step_index
+        t0, last_t, rt = self.t0, None, 0.0
+        if looked is None:
+            self.rx_floor.extend(t for t, _ in items)
+        else:
+            self.rx_floor.extend([looked] * len(items))
+            lb, lower_bound = self.rel(looked), self.lower_bound
+        # (the caller keeps the IUT's bytes within the flood limit: all of these are logged)
+        for t, b in items:
+            i = len(log)
+            if looked is not None:
+                lower_bound[i] = lb
+            rx_log.append(i)
+            if t != last_t:
+                last_t, rt = t, round(t - t0, 6)
+            log.append({"t": rt, "dir": "iut", "kind": "byte", "byte": b, "step": step})
+        self.kept["iut"] += len(items)
 
     def _sample_iut(self) -> None:
         """Between two looks, did the IUT wait for a CPU most of the time? Consecutive such
@@ -729,9 +748,11 @@ class _CaseEndpoint(Endpoint):
         if run.pos >= len(run.rx):
             run._pump(max(deadline, run.tr.now()))
         items = [(t, "byte", b) for t, b in run.rx[run.pos:]]
-        while run.pos < len(run.rx):
-            run.consume()
-        if items:
+        if items:   # consumed (as ``consume`` does each), in one go
+            log, step = run.log, run.step_index
+            for i in run.rx_log[run.pos:]:
+                log[i]["step"] = step
+            run.pos = len(run.rx)
             self.last = max(self.last, items[-1][0])
         return items
 
