@@ -201,6 +201,12 @@ class CaseRun:
         #: shortest timer in this attempt (seconds): a steady load takes a little at every
         #: moment, never long at once
         self.iut_wait = 0.0
+        #: how late the tester's reply as a conforming partner went out after its model had
+        #: it due (seconds; the most in this attempt): a partner busy taking in a long block,
+        #: or kept from a CPU, replies later than planned, and an IUT that lost part of its
+        #: timer to its own lag may then time out where an on-time partner would not have
+        #: made it
+        self.partner_late = 0.0
         self._cpu: tuple[float, float | None] = (0.0, None)
         self._own: float | None = None      # the harness thread's run-queue wait at the last look
         self._own_wait = OwnCpuWait() if self.realtime else (lambda: None)
@@ -756,6 +762,12 @@ class _CaseEndpoint(Endpoint):
             self.last = max(self.last, items[-1][0])
         return items
 
+    def late(self, seconds: float) -> None:
+        # the partner's reply went out this late after its model had it due (the harness was
+        # busy taking in a long block, or kept from a CPU): a failed attempt is then judged
+        # again with the tester's bytes reaching the IUT that much later and more (Runner._rejudge)
+        self.run.partner_late = max(self.run.partner_late, seconds)
+
     def write(self, data: bytes) -> float:
         run = self.run
         w = run.tr.write(data)
@@ -1103,7 +1115,7 @@ class Runner:
                 return "ok"
             worst = max(run.max_stall, run.iut_stall)
             starved = run.iut_wait >= STARVED * run.shortest
-            if worst <= tol.stimulus and not starved:
+            if worst <= tol.stimulus and not starved and run.partner_late <= tol.stimulus:
                 # the harness kept its own timing in this attempt (no read or write came
                 # later than its tolerance), and the IUT's process was not seen kept from a
                 # CPU as long: the tester's bytes went out and the IUT's were read as
@@ -1120,6 +1132,15 @@ class Runner:
             # been stalled that long (a third timeline); a stall under a character time is noise
             stall = worst + run.look if worst > run.char else 0.0
             timelines = [(False, 0.0), (True, 0.0)] + ([(False, stall)] if stall else [])
+            # The tester, as the IUT's conforming partner, replied later than its model had it
+            # due: the wire shows the reply within the IUT's timer, but an IUT that starts its
+            # timer as its process hands over a block, and writes the block some milliseconds
+            # later, whole, had less of that timer left than the wire shows. The harness's
+            # lateness and the IUT's add up; the IUT's is not seen, so it is taken as up to its
+            # shortest timer (a longer one shows as its process's stall).
+            partner = run.partner_late + run.shortest if run.partner_late > tol.stimulus else 0.0
+            if partner > stall:
+                timelines.append((False, partner))
             for late, stalled in timelines:
                 rep = model(late, stalled)
                 problems = self._status_by_model(v, run, rep.codes) if rep.agrees and res.divergence is None else []
@@ -1127,7 +1148,11 @@ class Runner:
                 if rep.agrees and not problems:
                     whose = ("the IUT's process, kept from a CPU by the machine's load" if run.iut_stall > run.max_stall
                              else "the harness")
-                    how = (f"as late as a process stalled for up to {1000 * stalled:.1f} ms (the longest stall "
+                    how = (f"up to {1000 * stalled:.1f} ms later than they went out (the tester's reply as the "
+                           f"IUT's partner went out {1000 * run.partner_late:.1f} ms later than its model had it "
+                           "due, and an IUT that writes a block whole may have started its timer up to its shortest "
+                           "timer before the block reached the line)" if stalled and stalled == partner else
+                           f"as late as a process stalled for up to {1000 * stalled:.1f} ms (the longest stall "
                            f"measured in this attempt, of {whose}, plus the harness's look period) may have taken "
                            "them, with as many of its own bytes out as a stalled IUT may have had" if stalled else
                            "as late after the IUT's bytes as they may have reached it (the harness read an IUT byte "

@@ -88,3 +88,35 @@ def test_a_timer_still_runs_out_when_nothing_came():
     sent = [b for _, b in line.written]
     assert sent == [NAK, DLE, NAK]
     assert line.written[-1][0] == pytest.approx(0.010 + char + P.cdt + 0.030 + char, abs=1e-6)
+
+
+class LateLine(StallingLine):
+    """Each write takes ``busy`` seconds before the byte is out (the process was busy or
+    waited for a CPU); the endpoint records what the loop reports as late."""
+
+    def __init__(self, inputs, busy):
+        super().__init__(inputs)
+        self.busy = busy
+        self.lateness: list[float] = []
+
+    def write(self, data):
+        self.t += self.busy
+        return super().write(data)
+
+    def late(self, seconds):
+        self.lateness.append(seconds)
+
+
+@pytest.mark.parametrize("busy", [0.0, 0.004, 0.017])
+def test_the_loop_reports_how_late_each_byte_went_out(busy):
+    """A station's reply that goes out later than its plan is reported to the endpoint (the
+    runner counts it as the harness's own stall: its partner's DLE after an IUT's long block,
+    17 ms late under load, once passed as the IUT's fault)."""
+    st = Station3964(P, name="iut")
+    line = LateLine([(0.010, STX)], busy)
+    st.power_on(0.0)
+    drive_station(Host(st, "none"), line, until=0.05)
+    assert [b for _, b in line.written][:2] == [NAK, DLE]
+    assert len(line.lateness) == len(line.written)
+    assert line.lateness[1] == pytest.approx(busy, abs=1e-9)
+    assert all(x >= -1e-9 for x in line.lateness)
