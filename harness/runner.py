@@ -207,6 +207,9 @@ class CaseRun:
         #: timer to its own lag may then time out where an on-time partner would not have
         #: made it
         self.partner_late = 0.0
+        #: when the first reply of the partner that went out later than the harness keeps its
+        #: timing to was due (absolute time; None: every reply went out in time)
+        self.partner_due: float | None = None
         self._cpu: tuple[float, float | None] = (0.0, None)
         self._own: float | None = None      # the harness thread's run-queue wait at the last look
         self._own_wait = OwnCpuWait() if self.realtime else (lambda: None)
@@ -766,7 +769,10 @@ class _CaseEndpoint(Endpoint):
         # the partner's reply went out this late after its model had it due (the harness was
         # busy taking in a long block, or kept from a CPU): a failed attempt is then judged
         # again with the tester's bytes reaching the IUT that much later and more (Runner._rejudge)
-        self.run.partner_late = max(self.run.partner_late, seconds)
+        run = self.run
+        run.partner_late = max(run.partner_late, seconds)
+        if seconds > run.tol.stimulus and run.partner_due is None:
+            run.partner_due = run.tr.now() - seconds
 
     def write(self, data: bytes) -> float:
         run = self.run
@@ -1128,6 +1134,7 @@ class Runner:
                                  f"within {1000 * run.shortest:.0f} ms (its shortest timer), in this attempt (its "
                                  "run-queue wait)")
             differences = []
+            first_at = None     # where the model fed the line as it was first does otherwise
             # the machine stalled the harness or the IUT noticeably: the IUT process may have
             # been stalled that long (a third timeline); a stall under a character time is noise
             stall = worst + run.look if worst > run.char else 0.0
@@ -1143,6 +1150,8 @@ class Runner:
                 timelines.append((False, partner))
             for late, stalled in timelines:
                 rep = model(late, stalled)
+                if not late and not stalled:
+                    first_at = rep.at
                 problems = self._status_by_model(v, run, rep.codes) if rep.agrees and res.divergence is None else []
                 differences.append(f"{rep.timeline} timeline: " + (rep.why or "STATUS: " + "; ".join(problems)))
                 if rep.agrees and not problems:
@@ -1165,6 +1174,23 @@ class Runner:
                     return "timing"
             res.notes.append("the reference model fed the line as it was does not do what the IUT did, however "
                              "late the tester's bytes reached it (" + "; ".join(differences) + ")")
+            known = [t for t in (first_at, None if res.divergence is None else res.divergence.t) if t is not None]
+            if run.partner_due is not None and known and min(known) >= run.rel(run.partner_due):
+                # The tester, as the IUT's partner, sent a reply later than the harness keeps
+                # its timing to, and everything the IUT did otherwise than the case and the
+                # model came after that reply was due. Once a reply comes late, the IUT may
+                # have run out a timer it would have met (its own lag is not on the wire), and
+                # what follows from that, its repetitions crossing the partner's late replies,
+                # no model can replay. The attempt is void (run again; an error if it keeps
+                # happening), never a fail; a divergence before the late reply still fails.
+                res.notes.append(f"failed attempt: {res.message}")
+                res.verdict = R.ERROR
+                res.message = (f"harness timing fault: the tester's reply as the IUT's partner, due at "
+                               f"{1000 * run.rel(run.partner_due):.1f} ms, went out later than the harness keeps its "
+                               f"timing to ({1000 * tol.stimulus:.1f} ms; up to {1000 * run.partner_late:.1f} ms late in "
+                               f"this attempt), and the IUT's divergence came after it (at {1000 * min(known):.1f} ms): "
+                               "it cannot be told from the harness's timing")
+                return "timing"
         except Exception as exc:   # the re-judgement must never cost the verdict
             res.notes.append(f"re-judging by the model failed: {type(exc).__name__}: {exc}")
         if max(run.max_stall, run.iut_stall) >= run.shortest or run.iut_wait >= STARVED * run.shortest:

@@ -110,8 +110,8 @@ class LateLine(StallingLine):
 @pytest.mark.parametrize("busy", [0.0, 0.004, 0.017])
 def test_the_loop_reports_how_late_each_byte_went_out(busy):
     """A station's reply that goes out later than its plan is reported to the endpoint (the
-    runner counts it as the harness's own stall: its partner's DLE after an IUT's long block,
-    17 ms late under load, once passed as the IUT's fault)."""
+    runner re-judges a failed attempt with it: its partner's DLE after an IUT's long block, 17 ms
+    late under load, once passed as the IUT's fault)."""
     st = Station3964(P, name="iut")
     line = LateLine([(0.010, STX)], busy)
     st.power_on(0.0)

@@ -626,3 +626,42 @@ def test_a_data_defect_fails_even_when_the_partner_replied_late():
     res = run_stalled("3964R.FIG2-6.RECEIVE", busy_partner_factory(0.006, lag=0.016, mutant="no-dle-undoubling"))
     assert res.verdict == "fail" and "31 10 10 32 15 03" in res.message, (res.verdict, res.message, res.notes)
     assert any("partner went out" in n or "however late" in n for n in res.notes), res.notes
+
+
+@pytest.mark.realtime
+@pytest.mark.parametrize("busy_attempts, verdict", [(1, "pass"), (9, "error")])
+def test_a_partner_reply_late_to_a_slow_whole_block_iut_is_never_a_fail(tmp_path, monkeypatch, busy_attempts, verdict):
+    """The false alarm as it was seen, made certain: the whole-block stand-in hands its
+    2,051-byte echo of SUITE.RECEIVE.MAX-STUFFING over, starts its ADT (20 ms) and writes
+    the block 8 ms later (--lag-ms 8); the harness, as its partner, takes 15 ms longer than it
+    should to acknowledge the first ``busy_attempts`` blocks. The stand-in's ADT runs
+    out, it repeats its block and the partner's late DLEs cross its repetition: a sequence no
+    model paced like a line replays. The attempt is void, never a fail."""
+    import time
+
+    from ptpcert.profile import load_profile
+    from ptpcert.runner import RunOptions, Runner, _CaseEndpoint
+    from ptpcert.scenario import load_vector_sets
+    from ptpcert.suite import load_suite
+    from ptpcert.transport import make_factory
+
+    poll, blocks = _CaseEndpoint.poll, [0]
+
+    def busy(self, deadline):
+        items = poll(self, deadline)
+        if len(items) > 500:        # a block of the IUT's (its repetitions too): the first ones slow
+            blocks[0] += 1
+            if blocks[0] <= busy_attempts:
+                time.sleep(0.015)
+        return items
+    monkeypatch.setattr(_CaseEndpoint, "poll", busy)
+    prof = load_profile(without_setups(tmp_path))
+    (case,) = load_suite(prof, load_vector_sets(), select=["SUITE.RECEIVE.MAX-STUFFING"])
+    factory = make_factory(f"exec:{PY} {FAKES / 'whole_block.py'} --lag-ms 8", prof)
+    try:
+        res = Runner(factory, prof, RunOptions(retry_pause=())).run_case(case)
+    finally:
+        factory.shutdown()
+    assert res.verdict == verdict, (res.verdict, res.message, res.notes)
+    assert any("the tester's reply as the IUT's partner" in n or "partner went out" in n
+               for n in res.notes + [res.message]), (res.message, res.notes)

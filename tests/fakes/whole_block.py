@@ -4,10 +4,13 @@ wait for it to drain, seen over a pipe). Otherwise the reference model driven as
 iut`` drives it, with no pacing: once its block is written it waits for the release DLE.
 STATUS lines on stderr, PARMRK marks read.
 
-    whole_block.py [--cdt-ms N] [--adt-ms N] [--ignore-other-in-release] [--trace DIR]
+    whole_block.py [--cdt-ms N] [--adt-ms N] [--ignore-other-in-release] [--lag-ms N] [--trace DIR]
 
 ``--ignore-other-in-release`` breaks the release rule (§2.2.2 Send/release: any character
 other than DLE is a failed attempt): such a character is ignored while it waits for DLE.
+
+``--lag-ms N``: a slow stand-in, N ms between its model's handing a block over (and
+starting its timers) and the block's write, as a process that builds its output late.
 
 ``--trace DIR`` writes DIR/<pid>.trace: every look at the input and every write, on the
 monotonic clock the harness's transcript is timed by (its ``origin``), with the process's
@@ -16,6 +19,7 @@ CPU time and run-queue wait, to tell a late harness from a late stand-in.
 import argparse
 import os
 import sys
+import time
 
 from ptpcert.driver import drive_station
 from ptpcert.iut import StdioEndpoint
@@ -32,6 +36,7 @@ class OneWrite(StdioEndpoint):
         self.buffer = bytearray()
         self.trace = None      # --trace: the trace file
         self.sched = None      # --trace: /proc/self/schedstat, kept open
+        self.lag = 0.0         # --lag-ms, seconds
 
 
     def write(self, data):
@@ -40,6 +45,8 @@ class OneWrite(StdioEndpoint):
 
     def poll(self, deadline):
         if self.buffer:
+            if self.lag:
+                time.sleep(self.lag)
             t = self.now()
             os.write(self.fd_out, bytes(self.buffer))
             self._log(f"W {t:.6f} {bytes(self.buffer).hex()}")
@@ -61,6 +68,7 @@ ap = argparse.ArgumentParser()
 ap.add_argument("--cdt-ms", type=int, default=20)
 ap.add_argument("--adt-ms", type=int, default=20)
 ap.add_argument("--ignore-other-in-release", action="store_true")
+ap.add_argument("--lag-ms", type=float, default=0.0)
 ap.add_argument("--trace", metavar="DIR")
 args = ap.parse_args()
 
@@ -80,6 +88,7 @@ class IgnoresOtherInRelease(Station3964):
 params = Params3964(procedure="3964R", cdt_ms=args.cdt_ms, adt_ms=args.adt_ms, baud_rate=None)
 st = (IgnoresOtherInRelease if args.ignore_other_in_release else Station3964)(params, name="iut")
 ep = OneWrite()
+ep.lag = args.lag_ms / 1000.0
 if args.trace:
     ep.trace = open(os.path.join(args.trace, f"{os.getpid()}.trace"), "w", buffering=1)
     ep.sched = os.open("/proc/self/schedstat", os.O_RDONLY)
