@@ -91,6 +91,31 @@ class OwnCpuWait:
             return None
 
 
+_STAT_FD: int | None = None
+_STAT_OPENED = False
+
+
+def steal_time() -> float | None:
+    """Linux: the time so far that the hypervisor ran other work while this machine's CPUs
+    had work to do, all CPUs together, in seconds (/proc/stat, the first line's eighth
+    number: steal, in clock ticks of 10 ms). A process kept from a CPU this way does not
+    wait on the guest's run queue: its schedstat does not show it. None where /proc does
+    not tell (16 microseconds a look)."""
+    global _STAT_FD, _STAT_OPENED
+    if not _STAT_OPENED:
+        _STAT_OPENED = True
+        try:
+            _STAT_FD = os.open("/proc/stat", os.O_RDONLY | os.O_CLOEXEC)
+        except OSError:
+            _STAT_FD = None
+    if _STAT_FD is None:
+        return None
+    try:
+        return int(os.pread(_STAT_FD, 512, 0).split(b"\n", 1)[0].split()[8]) / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError):
+        return None
+
+
 class TimingFault(RuntimeError):
     """The harness could not keep the timing a stimulus needs (machine too loaded)."""
 
@@ -214,6 +239,11 @@ class CaseRun:
         self._own: float | None = None      # the harness thread's run-queue wait at the last look
         self._own_wait = OwnCpuWait() if self.realtime else (lambda: None)
         self._waits: collections.deque = collections.deque()     # (time, cumulative wait)
+        #: the most steal time (see steal_time) within any stretch as long as the IUT's
+        #: shortest timer in this attempt (seconds), where the IUT is a process here
+        self.stolen = 0.0
+        self._steals: collections.deque = collections.deque()    # (time, cumulative steal)
+        self._next_steal = 0.0
         self._starved = 0.0
         #: per stimulus (a send, character error or BREAK step): (step, IUT bytes read
         #: before its first byte went out)
@@ -289,6 +319,8 @@ class CaseRun:
         t0, w0 = self._cpu
         now, w = self.tr.now(), self.tr.cpu_wait()
         self._cpu = (now, w)
+        if w is not None and now >= self._next_steal:
+            self._sample_steal(now)
         if w0 is None or w is None:
             self._starved = 0.0
             return
@@ -307,6 +339,29 @@ class CaseRun:
             self.iut_stall = max(self.iut_stall, self._starved)
         else:
             self._starved = 0.0
+
+    #: how often the steal time is read (it counts in ticks of 10 ms)
+    STEAL_LOOK = 0.005
+
+    def _sample_steal(self, now: float) -> None:
+        """On a virtual machine, the hypervisor may take a CPU away from the IUT's process (or
+        from the kernel thread that carries a pty's bytes) for tens of milliseconds: the IUT
+        then misses a timer window it would have met, and no run queue of this machine shows
+        it. Steal time within any stretch as long as the IUT's shortest timer counts as a
+        stall of the IUT's (all CPUs together: which one the IUT was on is not known)."""
+        s = steal_time()
+        if s is None:
+            self._next_steal = float("inf")
+            return
+        self._next_steal = now + self.STEAL_LOOK
+        q = self._steals
+        q.append((now, s))
+        while len(q) > 1 and q[1][0] <= now - self.shortest:
+            q.popleft()
+        burst = s - q[0][1]
+        if burst > self.stolen:
+            self.stolen = burst
+            self.iut_stall = max(self.iut_stall, burst)
 
     def _record(self, entry: dict) -> None:
         """Log a byte, a character error or a BREAK on the line; beyond the flood limit of
@@ -1128,6 +1183,10 @@ class Runner:
                 # planned, so the divergence is the IUT's; judging it again by a model fed
                 # other timings would only explain real defects away
                 return outcome
+            if run.stolen > tol.stimulus:
+                res.notes.append(f"the machine's hypervisor ran other work on its CPUs for {1000 * run.stolen:.0f} ms "
+                                 f"within {1000 * run.shortest:.0f} ms (the IUT's shortest timer) in this attempt (steal "
+                                 "time, /proc/stat): the IUT's process may have been kept from its CPU that long")
             if run.iut_stall > run.max_stall or starved:
                 res.notes.append(f"the IUT's process was kept from a CPU by the machine's load for up to "
                                  f"{1000 * run.iut_stall:.1f} ms at a time, and for {1000 * run.iut_wait:.1f} ms in all "
@@ -1174,7 +1233,7 @@ class Runner:
                     return "timing"
             res.notes.append("the reference model fed the line as it was does not do what the IUT did, however "
                              "late the tester's bytes reached it (" + "; ".join(differences) + ")")
-            known = [t for t in (first_at, None if res.divergence is None else res.divergence.t) if t is not None]
+            known = [t for t in (first_at, None if res.divergence is None else res.divergence.time) if t is not None]
             if run.partner_due is not None and known and min(known) >= run.rel(run.partner_due):
                 # The tester, as the IUT's partner, sent a reply later than the harness keeps
                 # its timing to, and everything the IUT did otherwise than the case and the

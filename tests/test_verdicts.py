@@ -282,6 +282,7 @@ def _harness_never_waits_for_a_cpu(request, monkeypatch):
     if request.node.get_closest_marker("realtime"):
         return
     monkeypatch.setattr(runner_mod, "OwnCpuWait", type("Waits", (_HarnessWaits,), {"jump": 0.0}))
+    monkeypatch.setattr(runner_mod, "steal_time", lambda: 0.0)    # nor the machine's steal time
 
 
 def run_stalled(case_id, factory, **options):
@@ -323,14 +324,17 @@ def test_a_defect_fails_when_the_harness_keeps_its_timing_and_is_an_error_when_i
 # -- the IUT's process kept from a CPU by the machine's load: an error, never a fail ----------
 
 def starving_factory(at_byte: int, stall: float, *, tells: bool = True, attempts_starved: int = 1,
-                     share: float | None = None, **options):
+                     share: float | None = None, steal: list | None = None, **options):
     """The model IUT of ``sim:`` behind a transport the runner takes for a real-time one, whose
     IUT process is kept from a CPU for ``stall`` seconds from the tester's byte ``at_byte`` on
     (in the first ``attempts_starved`` attempts): it takes in what the tester sent meanwhile
     only then, while the harness keeps its own timing. With ``tells``, the transport reports
     the run-queue wait as a process transport reads it from /proc; without, it cannot tell
     (an IUT on another machine). With ``share``, the IUT instead waited for a CPU that share of
-    every moment since the attempt began (never most of a moment: no stall, only a total)."""
+    every moment since the attempt began (never most of a moment: no stall, only a total).
+    With ``steal`` (a list), the run-queue wait stays 0 and the stall is the hypervisor's
+    instead: ``steal[0]`` is set to a function giving the machine's steal time, in whole
+    ticks of 10 ms as /proc/stat counts it."""
     from ptpcert.transport import Factory, sim_factory
 
     prof = reference_profile()
@@ -360,9 +364,19 @@ def starving_factory(at_byte: int, stall: float, *, tells: bool = True, attempts
 
         opened = tr.now()
 
+        def stolen():
+            if hold[0] is None:
+                return 0.0
+            return int(max(0.0, min(tr.now(), hold[1]) - hold[0]) / 0.010) * 0.010
+
+        if steal is not None:
+            steal[:] = [stolen]
+
         def cpu_wait():
             if not tells:
                 return None
+            if steal is not None:
+                return 0.0
             if share is not None:
                 return share * (tr.now() - opened) if starve else 0.0
             if hold[0] is None:
@@ -429,6 +443,31 @@ def test_a_harness_kept_from_a_cpu_is_its_own_stall(monkeypatch):
     monkeypatch.setattr(runner_mod, "OwnCpuWait", type("Waits", (_HarnessWaits,), {"jump": 0.0}))
     res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(10 ** 6, 0.0, mutant="no-dle-undoubling"))
     assert res.verdict == "fail" and "31 10 10 32 15 03" in res.message, res.message
+
+
+def test_an_iut_process_kept_from_its_cpu_by_the_hypervisor_is_repeated_not_failed(monkeypatch):
+    """Seen in a long run on this (virtual) machine: the reference IUT over pty: sent its STX
+    again 30 ms after the tester's DLE, as if it had not read it within its ADT, while the
+    harness kept its timing and no run queue showed a wait; the VM's steal time jumped
+    meanwhile. The hypervisor's steal time counts as a stall of the IUT's."""
+    import ptpcert.runner as runner_mod
+
+    cdt = reference_profile().params.cdt
+    steal: list = []
+    monkeypatch.setattr(runner_mod, "steal_time", lambda: steal[0]() if steal else 0.0)
+    res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(5, cdt + 0.010, steal=steal))
+    assert res.verdict == "pass" and res.attempts == 2, (res.verdict, res.message, res.notes)
+    assert any("hypervisor" in n for n in res.notes), res.notes
+    res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(5, cdt + 0.010, steal=steal, attempts_starved=9))
+    assert res.verdict == "error" and "kept from a CPU" in res.message, res.message
+    # no steal (the clock stands still): the same IUT behaviour fails
+    monkeypatch.setattr(runner_mod, "steal_time", lambda: 0.0)
+    res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(5, cdt + 0.010, steal=[]))
+    assert res.verdict == "fail", (res.verdict, res.message, res.notes)
+    # a short steal does not explain wrong data away
+    monkeypatch.setattr(runner_mod, "steal_time", lambda: steal[0]() if steal else 0.0)
+    res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(5, 0.012, steal=steal, mutant="no-dle-undoubling"))
+    assert res.verdict == "fail" and "31 10 10 32 15 03" in res.message, (res.message, res.notes)
 
 
 def test_an_iut_stall_is_not_an_excuse_where_nothing_shows_it():
@@ -665,3 +704,25 @@ def test_a_partner_reply_late_to_a_slow_whole_block_iut_is_never_a_fail(tmp_path
     assert res.verdict == verdict, (res.verdict, res.message, res.notes)
     assert any("the tester's reply as the IUT's partner" in n or "partner went out" in n
                for n in res.notes + [res.message]), (res.message, res.notes)
+
+
+@pytest.mark.parametrize("model_differs_at, verdict", [(0.0, "fail"), (None, "error")])
+def test_an_attempt_that_diverged_only_after_a_late_partner_reply_was_due_is_void(monkeypatch, model_differs_at, verdict):
+    """The rule itself, with a model that explains nothing (the replay is replaced by one
+    that always differs): the IUT repeats its echo block (the case's divergence, step 5)
+    after the tester's DLE went out 6 ms late. Where the model fed the line as it was first
+    differs only after that DLE was due, the attempt is void (an error when every attempt
+    is so); where it differs before (at 0 ms), something was wrong before the harness was
+    late, and the fail stands."""
+    import ptpcert.replay as RP
+
+    def differs(transport, wire, margin, **kw):
+        at = model_differs_at if model_differs_at is not None else wire.end
+        return RP.Replay(False, "differs (a stand-in for the model)", at, b"", [], "observed")
+    monkeypatch.setattr(RP, "replay", differs)
+    res = run_stalled("3964R.FIG2-6.RECEIVE", busy_partner_factory(0.006, lag=0.016))
+    assert res.verdict == verdict, (res.verdict, res.message, res.notes)
+    if verdict == "error":
+        assert "due at" in res.message and "came after it" in res.message, res.message
+    else:
+        assert not any("re-judging by the model failed" in n for n in res.notes), res.notes
