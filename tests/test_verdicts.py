@@ -282,7 +282,7 @@ def _harness_never_waits_for_a_cpu(request, monkeypatch):
     if request.node.get_closest_marker("realtime"):
         return
     monkeypatch.setattr(runner_mod, "OwnCpuWait", type("Waits", (_HarnessWaits,), {"jump": 0.0}))
-    monkeypatch.setattr(runner_mod, "steal_time", lambda: 0.0)    # nor the machine's steal time
+    monkeypatch.setattr(runner_mod, "steal_time", lambda: (0.0,))    # nor the machine's steal time
 
 
 def run_stalled(case_id, factory, **options):
@@ -334,7 +334,7 @@ def starving_factory(at_byte: int, stall: float, *, tells: bool = True, attempts
     every moment since the attempt began (never most of a moment: no stall, only a total).
     With ``steal`` (a list), the run-queue wait stays 0 and the stall is the hypervisor's
     instead: ``steal[0]`` is set to a function giving the machine's steal time, in whole
-    ticks of 10 ms as /proc/stat counts it."""
+    ticks of 10 ms as /proc/stat counts it (the tests put it on the second of two CPUs)."""
     from ptpcert.transport import Factory, sim_factory
 
     prof = reference_profile()
@@ -454,18 +454,18 @@ def test_an_iut_process_kept_from_its_cpu_by_the_hypervisor_is_repeated_not_fail
 
     cdt = reference_profile().params.cdt
     steal: list = []
-    monkeypatch.setattr(runner_mod, "steal_time", lambda: steal[0]() if steal else 0.0)
+    monkeypatch.setattr(runner_mod, "steal_time", lambda: (0.0, steal[0]() if steal else 0.0))
     res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(5, cdt + 0.010, steal=steal))
     assert res.verdict == "pass" and res.attempts == 2, (res.verdict, res.message, res.notes)
     assert any("hypervisor" in n for n in res.notes), res.notes
     res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(5, cdt + 0.010, steal=steal, attempts_starved=9))
     assert res.verdict == "error" and "kept from a CPU" in res.message, res.message
     # no steal (the clock stands still): the same IUT behaviour fails
-    monkeypatch.setattr(runner_mod, "steal_time", lambda: 0.0)
+    monkeypatch.setattr(runner_mod, "steal_time", lambda: (0.0, 0.0))
     res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(5, cdt + 0.010, steal=[]))
     assert res.verdict == "fail", (res.verdict, res.message, res.notes)
-    # a short steal does not explain wrong data away
-    monkeypatch.setattr(runner_mod, "steal_time", lambda: steal[0]() if steal else 0.0)
+    # a short steal (one tick on one CPU) is not a stall, and does not explain wrong data away
+    monkeypatch.setattr(runner_mod, "steal_time", lambda: (0.0, steal[0]() if steal else 0.0))
     res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(5, 0.012, steal=steal, mutant="no-dle-undoubling"))
     assert res.verdict == "fail" and "31 10 10 32 15 03" in res.message, (res.message, res.notes)
 
@@ -701,7 +701,12 @@ def test_a_partner_reply_late_to_a_slow_whole_block_iut_is_never_a_fail(tmp_path
         res = Runner(factory, prof, RunOptions(retry_pause=())).run_case(case)
     finally:
         factory.shutdown()
-    assert res.verdict == verdict, (res.verdict, res.message, res.notes)
+    # never a fail; a pass needs an attempt the machine let the harness and the stand-in time
+    # (on a VM whose hypervisor takes a CPU away for tens of milliseconds, that may not come:
+    # an error that names the stall is then the right verdict too)
+    assert res.verdict != "fail", (res.verdict, res.message, res.notes)
+    assert res.verdict == verdict or ("harness timing fault" in res.message and "kept from" in " ".join(res.notes)
+                                      + res.message), (res.verdict, res.message, res.notes)
     assert any("the tester's reply as the IUT's partner" in n or "partner went out" in n
                for n in res.notes + [res.message]), (res.message, res.notes)
 
