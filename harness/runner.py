@@ -91,34 +91,6 @@ class OwnCpuWait:
             return None
 
 
-_STAT_FD: int | None = None
-_STAT_OPENED = False
-
-
-def steal_time() -> tuple[float, ...] | None:
-    """Linux: for each CPU, the time so far that the hypervisor ran other work while that CPU
-    had work to do, in seconds (/proc/stat, the cpuN lines' eighth number: steal, in clock
-    ticks of 10 ms). A process kept from a CPU this way does not wait on the guest's run
-    queue: its schedstat does not show it. None where /proc does not tell (about 20
-    microseconds a look)."""
-    global _STAT_FD, _STAT_OPENED
-    if not _STAT_OPENED:
-        _STAT_OPENED = True
-        try:
-            _STAT_FD = os.open("/proc/stat", os.O_RDONLY | os.O_CLOEXEC)
-        except OSError:
-            _STAT_FD = None
-    if _STAT_FD is None:
-        return None
-    try:
-        hz = os.sysconf("SC_CLK_TCK")
-        lines = os.pread(_STAT_FD, 65536, 0).split(b"\n")
-        per_cpu = tuple(int(x.split()[8]) / hz for x in lines if x.startswith(b"cpu") and x[3:4].isdigit())
-        return per_cpu or None
-    except (OSError, ValueError, IndexError):
-        return None
-
-
 class TimingFault(RuntimeError):
     """The harness could not keep the timing a stimulus needs (machine too loaded)."""
 
@@ -242,11 +214,6 @@ class CaseRun:
         self._own: float | None = None      # the harness thread's run-queue wait at the last look
         self._own_wait = OwnCpuWait() if self.realtime else (lambda: None)
         self._waits: collections.deque = collections.deque()     # (time, cumulative wait)
-        #: the most steal time (see steal_time) within any stretch as long as the IUT's
-        #: shortest timer in this attempt (seconds), where the IUT is a process here
-        self.stolen = 0.0
-        self._steals: collections.deque = collections.deque()    # (time, cumulative steal)
-        self._next_steal = 0.0
         self._starved = 0.0
         #: per stimulus (a send, character error or BREAK step): (step, IUT bytes read
         #: before its first byte went out)
@@ -322,8 +289,6 @@ class CaseRun:
         t0, w0 = self._cpu
         now, w = self.tr.now(), self.tr.cpu_wait()
         self._cpu = (now, w)
-        if w is not None and now >= self._next_steal:
-            self._sample_steal(now)
         if w0 is None or w is None:
             self._starved = 0.0
             return
@@ -342,39 +307,6 @@ class CaseRun:
             self.iut_stall = max(self.iut_stall, self._starved)
         else:
             self._starved = 0.0
-
-    #: how often the steal time is read (it counts in ticks of 10 ms), and the fewest ticks
-    #: on one CPU that make a stall
-    STEAL_LOOK = 0.005
-    STEAL_TICK = 0.010
-    STEAL_TICKS_MIN = 2
-
-    def _sample_steal(self, now: float) -> None:
-        """On a virtual machine, the hypervisor may take a CPU away from the IUT's process (or
-        from the kernel thread that carries a pty's bytes) for tens of milliseconds: the IUT
-        then misses a timer window it would have met, and no run queue of this machine shows
-        it. Steal time on one CPU (which one the IUT was on is not known) as long as the IUT's
-        shortest timer, within a stretch that long, counts as a stall of the IUT's."""
-        s = steal_time()
-        if s is None:
-            self._next_steal = float("inf")
-            return
-        self._next_steal = now + self.STEAL_LOOK
-        q = self._steals
-        if q and len(q[-1][1]) != len(s):
-            q.clear()          # a CPU came or went: start afresh
-        q.append((now, s))
-        while len(q) > 1 and q[1][0] <= now - self.shortest:
-            q.popleft()
-        burst = max(b - a for a, b in zip(q[0][1], s))
-        # Only a CPU taken away for as long as the IUT's shortest timer counts (and never
-        # one tick, 10 ms, which may be a little steal at a tick's edge): that is what makes
-        # an IUT miss a whole timer window. Shorter steal is common on a shared host (this
-        # machine: 5 % of its CPU time, in bursts of 10-30 ms) and mostly harmless, and
-        # counted as a stall it would excuse real timing defects by the stalled timeline.
-        if burst >= max(self.STEAL_TICKS_MIN * self.STEAL_TICK, self.shortest) - 1e-9 and burst > self.stolen:
-            self.stolen = burst
-            self.iut_stall = max(self.iut_stall, burst)
 
     def _record(self, entry: dict) -> None:
         """Log a byte, a character error or a BREAK on the line; beyond the flood limit of
@@ -1196,10 +1128,6 @@ class Runner:
                 # planned, so the divergence is the IUT's; judging it again by a model fed
                 # other timings would only explain real defects away
                 return outcome
-            if run.stolen > tol.stimulus:
-                res.notes.append(f"the machine's hypervisor ran other work on one of its CPUs for {1000 * run.stolen:.0f} ms "
-                                 f"within {1000 * run.shortest:.0f} ms (the IUT's shortest timer) in this attempt (steal "
-                                 "time, /proc/stat): the IUT's process may have been kept from its CPU that long")
             if run.iut_stall > run.max_stall or starved:
                 res.notes.append(f"the IUT's process was kept from a CPU by the machine's load for up to "
                                  f"{1000 * run.iut_stall:.1f} ms at a time, and for {1000 * run.iut_wait:.1f} ms in all "
