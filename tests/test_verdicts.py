@@ -240,19 +240,31 @@ def test_a_defect_the_other_reading_does_not_explain_still_fails(mutant):
 
 # -- a harness stalled under load (false alarm 5): an error, never a fail ---------------------
 
+def realtime_sim(options: dict, fit):
+    """The model IUT of ``sim:`` (with the echo application and ``options``) behind a
+    transport the runner takes for a real-time one; ``fit(transport, attempt)`` changes each
+    transport made, ``attempt`` counting from 1 (a case's attempts each make one)."""
+    from ptpcert.transport import Factory, sim_factory
+
+    base = sim_factory(reference_profile().procedure, {"app": "echo", **options})
+    made = [0]
+
+    def make(v, params):
+        tr = base(v, params)
+        tr.virtual = False
+        made[0] += 1
+        fit(tr, made[0])
+        return tr
+
+    return Factory(make, base.capabilities, virtual=False)
+
+
 def stalling_factory(at_byte: int, stall: float, **options):
     """The model IUT of ``sim:`` behind a transport the runner takes for a real-time one
     (a pipe: bytes are timed when read): when the IUT's byte ``at_byte`` comes, the harness
     is descheduled for ``stall`` seconds, and reads it, and what the IUT sent meanwhile, only
     then. The IUT model runs on in the meantime, as a process on the other core would."""
-    from ptpcert.transport import Factory, sim_factory
-
-    prof = reference_profile()
-    base = sim_factory(prof.procedure, {"app": "echo", **options})
-
-    def make(v, params):
-        tr = base(v, params)
-        tr.virtual = False
+    def fit(tr, attempt):
         seen = [0]
         read = tr.read
 
@@ -266,9 +278,8 @@ def stalling_factory(at_byte: int, stall: float, **options):
             return [(tr.now(), b) for _, b in items]
 
         tr.read = stalled_read
-        return tr
 
-    return Factory(make, base.capabilities, virtual=False)
+    return realtime_sim(options, fit)
 
 
 @pytest.fixture(autouse=True)
@@ -331,17 +342,8 @@ def starving_factory(at_byte: int, stall: float, *, tells: bool = True, attempts
     the run-queue wait as a process transport reads it from /proc; without, it cannot tell
     (an IUT on another machine). With ``share``, the IUT instead waited for a CPU that share of
     every moment since the attempt began (never most of a moment: no stall, only a total)."""
-    from ptpcert.transport import Factory, sim_factory
-
-    prof = reference_profile()
-    base = sim_factory(prof.procedure, {"app": "echo", **options})
-    made = [0]
-
-    def make(v, params):
-        tr = base(v, params)
-        tr.virtual = False
-        made[0] += 1
-        starve = made[0] <= attempts_starved
+    def fit(tr, attempt):
+        starve = attempt <= attempts_starved
         written = [0]
         hold = [None, None]        # (from, until) of the stall
         write, push = tr.write, tr._push
@@ -372,9 +374,8 @@ def starving_factory(at_byte: int, stall: float, *, tells: bool = True, attempts
         tr.write = held_write
         tr.cpu_wait = cpu_wait
         del write
-        return tr
 
-    return Factory(make, base.capabilities, virtual=False)
+    return realtime_sim(options, fit)
 
 
 def test_an_iut_process_kept_from_a_cpu_past_its_cdt_is_repeated_not_failed():
@@ -546,17 +547,8 @@ def busy_partner_factory(busy: float, lag: float = 0.0, attempts_busy: int = 99,
     was busy taking the block in, or kept from a CPU. Every byte of the IUT reaches the line
     ``lag`` seconds after its model sent it, as from an IUT that hands a block to its
     timers and then takes a while to write it whole; the harness reads it at once."""
-    from ptpcert.transport import Factory, sim_factory
-
-    prof = reference_profile()
-    base = sim_factory(prof.procedure, {"app": "echo", **options})
-    made = [0]
-
-    def make(v, params):
-        tr = base(v, params)
-        tr.virtual = False
-        made[0] += 1
-        busy_now = made[0] <= attempts_busy
+    def fit(tr, attempt):
+        busy_now = attempt <= attempts_busy
         got: list[int] = []
         queue: list[tuple[float, int]] = []      # sent by the model, not yet on the line
         read, write = tr.read, tr.write
@@ -580,9 +572,8 @@ def busy_partner_factory(busy: float, lag: float = 0.0, attempts_busy: int = 99,
             return write(data)
 
         tr.read, tr.write = read_lagging, write_late
-        return tr
 
-    return Factory(make, base.capabilities, virtual=False)
+    return realtime_sim(options, fit)
 
 
 def test_a_partner_reply_late_past_the_iuts_adt_is_a_harness_error_not_a_fail():
