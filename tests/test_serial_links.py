@@ -4,7 +4,6 @@ RFC 2217, and the whole suite over rfc2217:// against the reference implementati
 pty pair behind an RFC 2217 server built on pyserial's PortManager
 (tests/fakes/port_server.py)."""
 
-import json
 import os
 import select
 import shutil
@@ -18,7 +17,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
-
+from no_false_alarm import judged
 from ptpcert.profile import reference_profile
 from ptpcert.runner import Runner
 from ptpcert.scenario import Step, Vector
@@ -52,21 +51,6 @@ def port_server(mode: str, command: str, tmp_path: Path, parmrk: bool = True):
         except subprocess.TimeoutExpired:
             proc.kill()
             proc.wait()
-
-
-def judged(p: subprocess.CompletedProcess, results: Path) -> list[dict]:
-    """The cases of a run that must raise no false alarm: nothing failed; a case may end in
-    error only as a harness timing fault (the machine was too loaded to keep the timing on
-    every attempt, which is never blamed on the IUT), and then only a few."""
-    assert p.returncode in (0, 2), p.stdout[-3000:] + p.stderr
-    cases = json.loads(results.read_text())["cases"]
-    verdicts = {c["verdict"] for c in cases}
-    assert verdicts <= {"pass", "non-strict", "informational", "unsupported", "error"}, verdicts
-    errors = [c for c in cases if c["verdict"] == "error"]
-    assert all(c["message"].startswith("harness timing fault") for c in errors), \
-        [(c["id"], c["message"]) for c in errors]
-    assert len(errors) <= 3 and (p.returncode == 2) == bool(errors), [c["id"] for c in errors]
-    return cases
 
 
 def wait_for(predicate, timeout=5.0):
