@@ -210,6 +210,14 @@ class CaseRun:
         #: when the first reply of the partner that went out later than the harness keeps its
         #: timing to was due (absolute time; None: every reply went out in time)
         self.partner_due: float | None = None
+        #: the most steal time (priority.steal_time) of one CPU within any stretch as long
+        #: as the IUT's shortest timer in this attempt (seconds; sampled only for an IUT
+        #: process on this machine): the hypervisor may have kept the IUT from its CPU that
+        #: long, unseen by any run queue. It never excuses a failure (it cannot tell which
+        #: CPU the IUT was on); a failed attempt with it is only reproduced before it stands
+        self.stolen = 0.0
+        self._steals: collections.deque = collections.deque()    # (time, steal per CPU)
+        self._next_steal = 0.0
         self._cpu: tuple[float, float | None] = (0.0, None)
         self._own: float | None = None      # the harness thread's run-queue wait at the last look
         self._own_wait = OwnCpuWait() if self.realtime else (lambda: None)
@@ -289,6 +297,8 @@ class CaseRun:
         t0, w0 = self._cpu
         now, w = self.tr.now(), self.tr.cpu_wait()
         self._cpu = (now, w)
+        if w is not None and now >= self._next_steal:
+            self._sample_steal(now)
         if w0 is None or w is None:
             self._starved = 0.0
             return
@@ -307,6 +317,52 @@ class CaseRun:
             self.iut_stall = max(self.iut_stall, self._starved)
         else:
             self._starved = 0.0
+
+    #: how often the steal time is read (it counts in clock ticks of 10 ms)
+    STEAL_LOOK = 0.005
+
+    def _sample_steal(self, now: float) -> None:
+        """The most steal time of one CPU within a stretch as long as the IUT's shortest
+        timer, so far in this attempt (see ``stolen``)."""
+        s = priority.steal_time()
+        if s is None:
+            self._next_steal = float("inf")
+            return
+        self._next_steal = now + self.STEAL_LOOK
+        q = self._steals
+        if q and len(q[-1][1]) != len(s):
+            q.clear()          # a CPU came or went: start afresh
+        q.append((now, s))
+        while len(q) > 1 and q[1][0] <= now - self.shortest:
+            q.popleft()
+        self.stolen = max(self.stolen, max(b - a for a, b in zip(q[0][1], s)))
+
+    #: the part of the IUT's shortest timer that a disturbance must reach to count: a correct
+    #: IUT loses a timer window it would have met only when it is kept from acting for most of
+    #: it (less is covered by the tolerance of the late side and the stalled timeline)
+    MATERIAL = 0.5
+
+    def disturbance(self) -> str | None:
+        """What of the machine's may have cost the IUT a timer window in this attempt, in
+        words: the harness or the IUT's process stalled, the IUT kept waiting for a CPU, a
+        partner reply late, or steal time of one CPU (at least two clock ticks: one tick may
+        be a little steal at a tick's edge), each for at least MATERIAL of the IUT's shortest
+        timer; None for an attempt the machine left alone."""
+        least = self.MATERIAL * self.shortest
+        what = []
+        if self.max_stall >= least:
+            what.append(f"the harness was stalled for up to {1000 * self.max_stall:.1f} ms")
+        if self.iut_stall >= least or self.iut_wait >= STARVED * self.shortest:
+            what.append(f"the IUT's process waited for a CPU for up to {1000 * self.iut_stall:.1f} ms at a time "
+                        f"({1000 * self.iut_wait:.1f} ms in all within {1000 * self.shortest:.0f} ms)")
+        if self.partner_late >= least:
+            what.append(f"the tester's reply as the IUT's partner went out up to {1000 * self.partner_late:.1f} ms "
+                        "late")
+        if self.stolen >= max(2 * priority.TICK, least) - 1e-9:
+            what.append(f"the hypervisor ran other work on one of this machine's CPUs for {1000 * self.stolen:.0f} ms "
+                        f"within {1000 * self.shortest:.0f} ms (steal time), unseen by any run queue: the IUT's "
+                        "process may have been kept from its CPU that long")
+        return "; ".join(what) or None
 
     def _record(self, entry: dict) -> None:
         """Log a byte, a character error or a BREAK on the line; beyond the flood limit of
@@ -901,6 +957,8 @@ class Runner:
             if res.verdict == R.FAIL and reruns < self._rerun_budget(v, outcome, realtime):
                 reruns += 1
                 why = ("failed by timing only" if outcome == "late" else
+                       "failed in an attempt the machine disturbed (see the note before); a failure is reproduced "
+                       "before it stands, so it runs again" if outcome == "disturbed" else
                        "failed; the case works close to a timer's edge, so it runs again" if v.timing_sensitive else
                        "failed over a network serial server, whose delays can stretch a gap on the line; "
                        "it runs again")
@@ -958,7 +1016,8 @@ class Runner:
     def _rerun_budget(self, v: Vector, outcome: str, realtime: bool) -> int:
         """How many times a failed case runs again before its failure stands. A failure is
         reproduced before it is reported where the machine's own timing could have caused
-        it: a case that failed only by a late reply runs once more; a case close to a timer's
+        it: a case that failed only by a late reply, or in an attempt the machine disturbed
+        (CaseRun.disturbance), runs once more; a case close to a timer's
         edge (an acceptance at 80 % of CDT or ADT, an initialization conflict) runs up to
         ``edge_attempts`` times in all over a real-time transport, and passes if any attempt
         passes: one acceptance proves the IUT waits long enough, while a refusal may come
@@ -968,7 +1027,7 @@ class Runner:
         the line that the harness never sent."""
         if not self.opts.confirm_late:
             return 0
-        budget = 1 if outcome == "late" else 0
+        budget = 1 if outcome in ("late", "disturbed") else 0
         if v.timing_sensitive and realtime:
             budget = max(budget, self.opts.edge_attempts - 1)
         if NETWORK in self.factory.capabilities and realtime:
@@ -982,8 +1041,9 @@ class Runner:
 
     def _attempt(self, v: Vector, steps, params: Any, res: R.CaseResult, may_interrupt_earlier: bool = False) -> str:
         """Run once; fill ``res``; return "ok", "timing" (voided), "late" (failed by
-        lateness only) or "displaced:N" (the stimulus of step N was meant to interrupt a
-        block that had ended; run again interrupting earlier)."""
+        lateness only), "disturbed" (failed in an attempt the machine disturbed: reproduce
+        it) or "displaced:N" (the stimulus of step N was meant to interrupt a block that had
+        ended; run again interrupting earlier)."""
         try:
             tr = self.factory(v, params)
         except TransportError as exc:
@@ -1126,8 +1186,10 @@ class Runner:
                 # later than its tolerance), and the IUT's process was not seen kept from a
                 # CPU as long: the tester's bytes went out and the IUT's were read as
                 # planned, so the divergence is the IUT's; judging it again by a model fed
-                # other timings would only explain real defects away
-                return outcome
+                # other timings would only explain real defects away (steal time the
+                # hypervisor took may still have kept the IUT from its CPU: then the failure
+                # is reproduced before it stands)
+                return self._confirm(run, res, outcome)
             if run.iut_stall > run.max_stall or starved:
                 res.notes.append(f"the IUT's process was kept from a CPU by the machine's load for up to "
                                  f"{1000 * run.iut_stall:.1f} ms at a time, and for {1000 * run.iut_wait:.1f} ms in all "
@@ -1212,7 +1274,23 @@ class Runner:
                            f"{1000 * tol.stimulus:.1f} ms); the IUT's divergence cannot be told from the machine's "
                            "load")
             return "timing"
-        return outcome
+        return self._confirm(run, res, outcome)
+
+    @staticmethod
+    def _confirm(run: CaseRun, res: R.CaseResult, outcome: str) -> str:
+        """A failure that stands in an attempt the machine disturbed (the harness or the IUT's
+        process stalled or kept waiting for a CPU, a partner reply late, the hypervisor
+        taking a CPU away) is reproduced before it is reported: "disturbed", which runs the
+        case once more. A defect fails again; a divergence that the machine caused, in a way
+        no measurement here could pin on it, does not come back. It never turns a failure
+        into a pass or an error by itself."""
+        if outcome != "ok" or res.verdict != R.FAIL:
+            return outcome
+        what = run.disturbance()
+        if what is None:
+            return outcome
+        res.notes.append(f"the machine disturbed this failed attempt: {what}")
+        return "disturbed"
 
     def _status_by_model(self, v: Vector, run: CaseRun, model_codes: list[int]) -> list[str]:
         """STATUS judged by the model's own events on the same line: everything the IUT

@@ -10,6 +10,7 @@ hypothesis's built-in "ci" profile) and where the example database lives.
 
 import os
 
+import pytest
 from hypothesis import settings
 from hypothesis.database import DirectoryBasedExampleDatabase
 
@@ -28,3 +29,14 @@ def pytest_report_header(config):
     s = settings.default
     return (f"hypothesis profile: {config.getoption('hypothesis_profile', None) or _profile} "
             f"(max_examples={s.max_examples}, derandomize={s.derandomize}, database={s.database})")
+
+
+@pytest.fixture(autouse=True)
+def _no_host_steal_in_fast_tests(request, monkeypatch):
+    """A fast test runs the model in virtual time, sometimes behind a transport the runner
+    takes for a real-time one: the host's steal time (ptpcert.priority.steal_time), read
+    between two of its virtual instants, must not change its outcome. Tests marked realtime
+    run against the real machine and keep it; a test that needs steal fakes it."""
+    if request.node.get_closest_marker("realtime") is None:
+        from ptpcert import priority
+        monkeypatch.setattr(priority, "steal_time", lambda: None)

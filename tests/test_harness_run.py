@@ -260,13 +260,21 @@ def test_a_timer_edge_case_passes_once_one_attempt_passes(tmp_path):
     assert f"passed on attempt {starts} after {failed} failed attempt(s)" in res.message
 
 
+def judged_once(res, judged: int) -> bool:
+    """A failure with no timing excuse is judged once; twice only where the machine disturbed
+    the first attempt (a stall, steal time: CaseRun.disturbance), which is reproduced before
+    it stands."""
+    disturbed = any(n.startswith("the machine disturbed this failed attempt") for n in res.notes)
+    return judged == (2 if disturbed else 1)
+
+
 @pytest.mark.realtime
 def test_a_timer_edge_failure_stands_when_every_attempt_fails(tmp_path):
     res, _, judged = _edge_run(tmp_path, "SUITE.TIMING.FIRST-CHARACTER-AT-80-CDT", k=99, edge_attempts=3)
     assert res.verdict == "fail" and judged == 3
     assert "expected 10; received 15" in res.message
     res, _, judged = _edge_run(tmp_path, "SUITE.TIMING.GAPS-AT-80-CDT-ACCEPTED", k=99, edge_attempts=1)
-    assert res.verdict == "fail" and judged == 1
+    assert res.verdict == "fail" and judged_once(res, judged), (judged, res.notes)
 
 
 @pytest.mark.realtime
@@ -286,7 +294,7 @@ def test_a_failure_in_the_bytes_away_from_a_timer_edge_is_not_run_again(tmp_path
     # the timer that expired meanwhile (issue 10, false alarm 5). The broken IUT is therefore
     # started with a CDT of 120 ms: it times out at 60 ms, 40 ms before the BCC goes out.
     res, _, judged = _edge_run(tmp_path, "SUITE.RECEIVE.3964R-WAITS-FOR-BCC", k=99, iut_cdt_ms=120)
-    assert res.verdict == "fail" and judged == 1
+    assert res.verdict == "fail" and judged_once(res, judged), (judged, res.notes)
     assert "expected 10; received 15" in res.message
 
 
