@@ -91,6 +91,26 @@ class OwnCpuWait:
             return None
 
 
+class RiseWithin:
+    """How much cumulative counters (each of a tuple: one, or one per CPU) rose within the
+    last ``span`` seconds, the most of them: fed at every look, it keeps the looks of one
+    span. A counter that fell (a thread that ended took its count along) or a tuple of
+    another length (a CPU came or went) starts it afresh."""
+
+    def __init__(self, span: float) -> None:
+        self.span = span
+        self._q: collections.deque = collections.deque()    # (time, counters)
+
+    def add(self, now: float, counters: tuple[float, ...]) -> float:
+        q = self._q
+        if q and (len(q[-1][1]) != len(counters) or any(b < a for a, b in zip(q[-1][1], counters))):
+            q.clear()
+        q.append((now, counters))
+        while len(q) > 1 and q[1][0] <= now - self.span:
+            q.popleft()
+        return max(b - a for a, b in zip(q[0][1], counters))
+
+
 class TimingFault(RuntimeError):
     """The harness could not keep the timing a stimulus needs (machine too loaded)."""
 
@@ -216,12 +236,12 @@ class CaseRun:
         #: long, unseen by any run queue. It never excuses a failure (it cannot tell which
         #: CPU the IUT was on); a failed attempt with it is only reproduced before it stands
         self.stolen = 0.0
-        self._steals: collections.deque = collections.deque()    # (time, steal per CPU)
         self._next_steal = 0.0
         self._cpu: tuple[float, float | None] = (0.0, None)
         self._own: float | None = None      # the harness thread's run-queue wait at the last look
         self._own_wait = OwnCpuWait() if self.realtime else (lambda: None)
-        self._waits: collections.deque = collections.deque()     # (time, cumulative wait)
+        self._waits = RiseWithin(self.shortest)      # the IUT's run-queue wait
+        self._steals = RiseWithin(self.shortest)     # steal time, per CPU
         self._starved = 0.0
         #: per stimulus (a send, character error or BREAK step): (step, IUT bytes read
         #: before its first byte went out)
@@ -303,13 +323,7 @@ class CaseRun:
             self._starved = 0.0
             return
         dt, dw = now - t0, w - w0
-        waits = self._waits
-        if dw < 0:
-            waits.clear()      # a child that ended took its wait along: start afresh
-        waits.append((now, w))
-        while len(waits) > 1 and waits[1][0] <= now - self.shortest:
-            waits.popleft()
-        self.iut_wait = max(self.iut_wait, w - waits[0][1])
+        self.iut_wait = max(self.iut_wait, self._waits.add(now, (w,)))
         if dt <= 0:
             return
         if dw >= 0.5 * dt:
@@ -317,6 +331,12 @@ class CaseRun:
             self.iut_stall = max(self.iut_stall, self._starved)
         else:
             self._starved = 0.0
+
+    @property
+    def starved(self) -> bool:
+        """The IUT's process waited for a CPU for STARVED of its shortest timer within one
+        such stretch (a steady load, never one long stall)."""
+        return self.iut_wait >= STARVED * self.shortest
 
     #: how often the steal time is read (it counts in clock ticks of 10 ms)
     STEAL_LOOK = 0.005
@@ -329,13 +349,7 @@ class CaseRun:
             self._next_steal = float("inf")
             return
         self._next_steal = now + self.STEAL_LOOK
-        q = self._steals
-        if q and len(q[-1][1]) != len(s):
-            q.clear()          # a CPU came or went: start afresh
-        q.append((now, s))
-        while len(q) > 1 and q[1][0] <= now - self.shortest:
-            q.popleft()
-        self.stolen = max(self.stolen, max(b - a for a, b in zip(q[0][1], s)))
+        self.stolen = max(self.stolen, self._steals.add(now, s))
 
     #: the part of the IUT's shortest timer that a disturbance must reach to count: a correct
     #: IUT loses a timer window it would have met only when it is kept from acting for most of
@@ -352,7 +366,7 @@ class CaseRun:
         what = []
         if self.max_stall >= least:
             what.append(f"the harness was stalled for up to {1000 * self.max_stall:.1f} ms")
-        if self.iut_stall >= least or self.iut_wait >= STARVED * self.shortest:
+        if self.iut_stall >= least or self.starved:
             what.append(f"the IUT's process waited for a CPU for up to {1000 * self.iut_stall:.1f} ms at a time "
                         f"({1000 * self.iut_wait:.1f} ms in all within {1000 * self.shortest:.0f} ms)")
         if self.partner_late >= least:
@@ -430,11 +444,11 @@ class CaseRun:
         if self.realtime and RESTART in self.tr.capabilities:
             # the grace comes after the window that decided: what the machine does to either
             # process meanwhile does not touch the verdict's footing
-            kept = self.max_stall, self.iut_stall, self.iut_wait
+            kept = self.max_stall, self.iut_stall, self.iut_wait, self.stolen
             end = self.tr.now() + self.DEATH_GRACE
             while self.tr.now() < end:
                 self._pump(end)
-            self.max_stall, self.iut_stall, self.iut_wait = kept
+            self.max_stall, self.iut_stall, self.iut_wait, self.stolen = kept
 
     def fail(self, expected: str, observed: str, t: float, window=None, late_only=False):
         div = R.Divergence(self.step_index, self.rel(t), expected, observed,
@@ -1180,8 +1194,7 @@ class Runner:
                                                       "same line", rep.why)
                 return "ok"
             worst = max(run.max_stall, run.iut_stall)
-            starved = run.iut_wait >= STARVED * run.shortest
-            if worst <= tol.stimulus and not starved and run.partner_late <= tol.stimulus:
+            if worst <= tol.stimulus and not run.starved and run.partner_late <= tol.stimulus:
                 # the harness kept its own timing in this attempt (no read or write came
                 # later than its tolerance), and the IUT's process was not seen kept from a
                 # CPU as long: the tester's bytes went out and the IUT's were read as
@@ -1190,7 +1203,7 @@ class Runner:
                 # hypervisor took may still have kept the IUT from its CPU: then the failure
                 # is reproduced before it stands)
                 return self._confirm(run, res, outcome)
-            if run.iut_stall > run.max_stall or starved:
+            if run.iut_stall > run.max_stall or run.starved:
                 res.notes.append(f"the IUT's process was kept from a CPU by the machine's load for up to "
                                  f"{1000 * run.iut_stall:.1f} ms at a time, and for {1000 * run.iut_wait:.1f} ms in all "
                                  f"within {1000 * run.shortest:.0f} ms (its shortest timer), in this attempt (its "
@@ -1255,7 +1268,7 @@ class Runner:
                 return "timing"
         except Exception as exc:   # the re-judgement must never cost the verdict
             res.notes.append(f"re-judging by the model failed: {type(exc).__name__}: {exc}")
-        if max(run.max_stall, run.iut_stall) >= run.shortest or run.iut_wait >= STARVED * run.shortest:
+        if max(run.max_stall, run.iut_stall) >= run.shortest or run.starved:
             # The machine stalled the harness (and so, as likely, the IUT process) or the IUT
             # process itself as long as the IUT's shortest timer in this attempt: the IUT may
             # then have missed a whole timer window, and what it saw on the line cannot be

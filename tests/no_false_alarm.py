@@ -30,19 +30,28 @@ def judged(p: subprocess.CompletedProcess, results: Path) -> list[dict]:
     return cases
 
 
+def junit_outcomes(xml: Path) -> tuple[dict[str, str], dict[str, str]]:
+    """A pytest run's --junitxml file: each item's outcome (failed where it has a failure,
+    else error, skipped or passed), and the message and text of each error."""
+    outcomes, errors = {}, {}
+    for tc in ET.parse(xml).getroot().iter("testcase"):
+        kinds = {child.tag: child for child in tc}
+        name = tc.get("name")
+        if "failure" in kinds:
+            outcomes[name] = "failed"
+        elif "error" in kinds:
+            outcomes[name] = "error"
+            errors[name] = kinds["error"].get("message", "") + (kinds["error"].text or "")
+        else:
+            outcomes[name] = "skipped" if "skipped" in kinds else "passed"
+    return outcomes, errors
+
+
 def judged_junit(p: subprocess.CompletedProcess, xml: Path) -> dict[str, str]:
     """The same for a pytest run of the plugin (its --junitxml file): each case's outcome;
     an error only where the plugin raised a harness timing fault; pytest's exit 1 exactly
     when an item errored."""
-    outcomes, errors = {}, {}
-    for tc in ET.parse(xml).getroot().iter("testcase"):
-        kinds = {child.tag: child for child in tc}
-        if "error" in kinds:
-            outcomes[tc.get("name")] = "error"
-            errors[tc.get("name")] = kinds["error"].get("message", "") + (kinds["error"].text or "")
-        else:
-            outcomes[tc.get("name")] = ("failed" if "failure" in kinds else
-                                        "skipped" if "skipped" in kinds else "passed")
+    outcomes, errors = junit_outcomes(xml)
     assert set(outcomes.values()) <= {"passed", "skipped", "error"}, (outcomes, p.stdout[-3000:])
     assert all("harness timing fault" in m for m in errors.values()), (errors, p.stdout[-3000:])
     assert len(errors) <= MAX_TIMING_FAULTS and p.returncode == (1 if errors else 0), (p.returncode, errors,

@@ -6,12 +6,11 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
-import xml.etree.ElementTree as ET
 from collections import Counter
 from pathlib import Path
 
 import pytest
-from no_false_alarm import judged_junit
+from no_false_alarm import judged_junit, junit_outcomes
 
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable
@@ -28,14 +27,7 @@ def plugin_run(tmp_path, iut, *args, profile=PROFILE):
     p = subprocess.run([PY, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--ptpcert-iut", iut,
                         "--ptpcert-profile", str(profile), f"--junitxml={xml}", *args],
                        cwd=tmp_path, capture_output=True, text=True, timeout=900)
-    outcomes = {}
-    if xml.exists():
-        for tc in ET.parse(xml).getroot().iter("testcase"):
-            kinds = {child.tag for child in tc}
-            outcome = ("failed" if "failure" in kinds else "error" if "error" in kinds
-                       else "skipped" if "skipped" in kinds else "passed")
-            outcomes[tc.get("name")] = outcome
-    return p, outcomes
+    return p, junit_outcomes(xml)[0] if xml.exists() else {}
 
 
 def ptpcert_run(tmp_path, iut, *args, profile=PROFILE):
