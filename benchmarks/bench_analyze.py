@@ -26,12 +26,14 @@ import tempfile
 import time
 from pathlib import Path
 
-from ptpcert import analyze as A
+from ptpcert import analysis as A
 from ptpcert import capture as C
 from ptpcert import results as R
-from ptpcert.model import Params3964, Station3964, codec
 from ptpcert.model.link import Link
 from ptpcert.procedures import by_name
+from ptpcert.procedures.p3964.model import codec
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.p3964.model.station import Station3964
 
 TARGET = 1000.0
 PA = Params3964(priority="high", cdt_ms=20, adt_ms=20)

@@ -21,9 +21,10 @@ import time
 import traceback
 from pathlib import Path
 
-from ptpcert.model import Params3964, Station3964
 from ptpcert.model.events import Delivered
 from ptpcert.model.link import Link
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.p3964.model.station import Station3964
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -58,8 +59,8 @@ def level1(examples: int, seed: int) -> tuple[float, float, float] | None:
     each of its steps), or None when an example fails: that is a finding, not a figure (it is
     not shrunk here; ``--seed N --show-failure`` shrinks and prints it)."""
     sys.path.insert(0, str(ROOT / "tests"))
-    from hypothesis import Phase, Verbosity, settings
     import test_fuzz_model as m
+    from hypothesis import Phase, Verbosity, settings
 
     s = settings(settings.get_profile("ptpcert-quick"), max_examples=examples, database=None,
                  phases=(Phase.explicit, Phase.generate) + ((Phase.shrink,) if SHOW_FAILURE else ()),

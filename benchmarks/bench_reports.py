@@ -21,10 +21,10 @@ from pathlib import Path
 
 from ptpcert import __version__
 from ptpcert import results as R
-from ptpcert.html import write_html
 from ptpcert.profile import load_profile
 from ptpcert.report import write_junit
-from ptpcert.runner import RunOptions, Runner
+from ptpcert.report.html import write_html
+from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
 from ptpcert.transport import make_factory

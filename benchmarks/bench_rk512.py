@@ -16,10 +16,10 @@ from __future__ import annotations
 import argparse
 import time
 
-from ptpcert.model import Params3964
 from ptpcert.model.link import Link
-from ptpcert.model.rk512 import FrameLink, RequestResult, Rk512Core, Rk512Params, Rk512Station
-from ptpcert.model.rk512.requests import parse_request
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.rk512.model import FrameLink, RequestResult, Rk512Core, Rk512Params, Rk512Station
+from ptpcert.procedures.rk512.model.requests import parse_request
 
 REQ = parse_request("send", "DB10:DW0:LEN=1024")
 #: DBs of 2 KB: the issue's profile example (512 bytes) cannot hold a 1024-byte request.

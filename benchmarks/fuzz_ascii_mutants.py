@@ -16,9 +16,9 @@ import sys
 import time
 
 from ptpcert.fuzz import Campaign
-from ptpcert.mutants_ascii import MUTANTS
-from ptpcert.procedures.ascii import iut_command, reference_profile
-from ptpcert.runner import RunOptions, Runner
+from ptpcert.procedures.ascii.description import iut_command, reference_profile
+from ptpcert.procedures.ascii.mutants import MUTANTS
+from ptpcert.runner import Runner, RunOptions
 from ptpcert.transport import make_factory
 
 

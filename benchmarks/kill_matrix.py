@@ -21,9 +21,9 @@ import time
 from pathlib import Path
 
 from ptpcert import results as R
-from ptpcert.mutants import MUTANTS
+from ptpcert.procedures.p3964.mutants import MUTANTS
 from ptpcert.profile import reference_profile
-from ptpcert.runner import RunOptions, Runner
+from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
 from ptpcert.transport import make_factory
@@ -52,9 +52,10 @@ def run(url: str, profile) -> R.RunResult:
 def rk512_variants(args):
     """The RK 512 variants: the suite's profile with every role, set-up and area; over exec:
     with timers a loaded machine can keep (the tester answers the IUT's STX within its ADT)."""
+    from rk512_profiles import independent_command, independent_variants, iut_command, rk_profile_dict
+
     from ptpcert.procedures import by_id
     from ptpcert.profile import profile_from_dict
-    from rk512_profiles import independent_command, independent_variants, iut_command, rk_profile_dict
 
     if args.independent:
         # the independent station is a real process: the real-time timers of the exec: runs
@@ -73,13 +74,16 @@ def ascii_variants(args):
     slow_reader and send_job setups included); over exec: a CDT of 50 ms in the CDT criterion,
     so that a loaded machine does not cut its own frames. --independent: the independent
     station's variants (tests/independent/ascii), through the issue's interface only."""
-    from ptpcert.mutants_ascii import MUTANTS as ASCII_MUTANTS
-    from ptpcert.procedures.ascii import iut_command, reference_profile as ascii_profile
+    from ptpcert.procedures.ascii.description import iut_command
+    from ptpcert.procedures.ascii.description import reference_profile as ascii_profile
+    from ptpcert.procedures.ascii.mutants import MUTANTS as ASCII_MUTANTS
 
     if args.independent:
-        from test_ascii_independent import BROKEN, command, profile_text
-        from ptpcert.profile import load_profile
         import tempfile
+
+        from test_ascii_independent import BROKEN, command, profile_text
+
+        from ptpcert.profile import load_profile
 
         for name, (settings, _select) in BROKEN.items():
             path = Path(tempfile.mkdtemp()) / "p.toml"

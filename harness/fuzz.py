@@ -33,16 +33,22 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Callable
 
-from hypothesis import HealthCheck, Phase, assume, given, seed as hseed, settings, strategies as st
+from hypothesis import HealthCheck, Phase, assume, given, settings
+from hypothesis import seed as hseed
+from hypothesis import strategies as st
 from hypothesis.database import DirectoryBasedExampleDatabase
 
+from ptpcert.model.app import Host
+from ptpcert.procedures.p3964.model import codec
+from ptpcert.procedures.p3964.model import table as T
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.p3964.model.readings import READINGS, Readings
+from ptpcert.procedures.p3964.model.station import Station3964
+
 from . import results as R
-from .model import Host, Params3964, Station3964, codec
 from .model import events as ev
-from .model import table as T
-from .model.readings import READINGS, Readings
 from .profile import Profile
-from .runner import RunOptions, Runner, Tolerance, realtime_tolerance
+from .runner import Runner, RunOptions, Tolerance, realtime_tolerance
 from .scenario import Expected, Expr, StatusSpec, Step, Vector, dump_vector
 
 # ------------------------------------------------------------------ settings profiles
@@ -102,7 +108,7 @@ class CoSim:
         # far as the tester's byte may go out late plus two characters; after it, as far as
         # the runner lets the IUT's timer act late (for the longer of CDT and ADT)
         if tolerance is None:
-            from .procedures.p3964 import P3964
+            from ptpcert.procedures.p3964.description import P3964
             tolerance = realtime_tolerance(P3964(), params)
         self.tol = tolerance
         floor = 0.15 * min(params.cdt, params.adt) + 2 * params.char_time

@@ -29,7 +29,7 @@ import copy
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
-from .model.codec import hexstr
+from ptpcert.model.hexbytes import hexstr
 
 #: kinds of the tester's entries in a runner log, as line events
 _TESTER_KINDS = {"byte": "byte", "char_error": "invalid", "break": "break"}

@@ -19,7 +19,9 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Iterable
 
-from .model import codec
+from ptpcert.model.hexbytes import parse_hex
+from ptpcert.procedures.p3964.model import codec
+
 from .procedure import ProcedureError
 
 # ------------------------------------------------------------------ time expressions
@@ -606,7 +608,7 @@ def parse_vector_hex(text: str) -> bytes:
             raise ValueError(f"{token!r}: names are not allowed here; write the bytes in hex "
                              "(e.g. 02 for STX, 10 for DLE)")
         else:
-            out += codec.parse_hex(token)
+            out += parse_hex(token)
         if len(out) > MAX_STEP_BYTES:
             raise ValueError(f"more than {MAX_STEP_BYTES} bytes in one step")
     return bytes(out)

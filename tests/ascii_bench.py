@@ -5,10 +5,10 @@ tests of the ASCII model (tests/test_ascii_*.py)."""
 
 from __future__ import annotations
 
-from ptpcert.model.ascii import AsciiHost, AsciiParams, AsciiStation
-from ptpcert.model.ascii.events import FrameDiscarded, FrameStored
-from ptpcert.model.ascii.readings import READINGS
 from ptpcert.model.events import Delivered, SendDone, SendFailed, Status
+from ptpcert.procedures.ascii.model import AsciiHost, AsciiParams, AsciiStation
+from ptpcert.procedures.ascii.model.events import FrameDiscarded, FrameStored
+from ptpcert.procedures.ascii.model.readings import READINGS
 
 EPS = 1e-9
 IDLE = 0.020   # a line idle for 20 ms: longer than the CDT of every test that uses it

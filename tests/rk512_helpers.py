@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-from ptpcert.model import Params3964, Station3964
 from ptpcert.model.events import Delivered, Status
 from ptpcert.model.link import Link
-from ptpcert.model.rk512 import RequestResult, Rk512Params, Rk512Station, Served
-from ptpcert.model.rk512.readings import RK512_READINGS
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.p3964.model.station import Station3964
+from ptpcert.procedures.rk512.model import RequestResult, Rk512Params, Rk512Station, Served
+from ptpcert.procedures.rk512.model.readings import RK512_READINGS
 
 
 def params(prio: str, baud=9600, proc="3964R", **kw) -> Rk512Params:

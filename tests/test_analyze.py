@@ -17,17 +17,19 @@ from pathlib import Path
 
 import pytest
 
-from ptpcert import analyze as A
+from ptpcert import analysis as A
 from ptpcert import capture as C
 from ptpcert import results as R
 from ptpcert.cli import main as cli_main
-from ptpcert.model import Params3964, Station3964, codec
 from ptpcert.model.link import Link
-from ptpcert.model.readings import READINGS
-from ptpcert.mutants import MUTANTS
 from ptpcert.procedures import by_name
+from ptpcert.procedures.p3964.model import codec
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.p3964.model.readings import READINGS
+from ptpcert.procedures.p3964.model.station import Station3964
+from ptpcert.procedures.p3964.mutants import MUTANTS
 from ptpcert.profile import load_profile, reference_profile
-from ptpcert.runner import RunOptions, Runner
+from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
 from ptpcert.transport import make_factory

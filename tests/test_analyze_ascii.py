@@ -15,18 +15,18 @@ from pathlib import Path
 
 import pytest
 
-from ptpcert import analyze as A
+from ptpcert import analysis as A
 from ptpcert import capture as C
 from ptpcert import results as R
 from ptpcert.cli import main as cli_main
-from ptpcert.model.ascii import AsciiHost, AsciiParams, AsciiStation, send_bytes
 from ptpcert.model.events import Status
 from ptpcert.model.link import Link
-from ptpcert.mutants_ascii import MUTANTS
 from ptpcert.procedures import by_name
-from ptpcert.procedures.ascii import reference_profile
+from ptpcert.procedures.ascii.description import reference_profile
+from ptpcert.procedures.ascii.model import AsciiHost, AsciiParams, AsciiStation, send_bytes
+from ptpcert.procedures.ascii.mutants import MUTANTS
 from ptpcert.profile import load_profile
-from ptpcert.runner import RunOptions, Runner
+from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
 from ptpcert.transport import make_factory

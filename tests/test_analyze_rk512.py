@@ -13,24 +13,24 @@ from dataclasses import replace
 from pathlib import Path
 
 import pytest
+from rk512_helpers import pair, params, settle
+from rk512_rules import header, response
 
-from ptpcert import analyze as A
+from ptpcert import analysis as A
 from ptpcert import capture as C
 from ptpcert import results as R
 from ptpcert.cli import main as cli_main
-from ptpcert.model import Params3964, Station3964
 from ptpcert.model.codes import Code
 from ptpcert.model.link import Link
-from ptpcert.model.rk512 import RK512_READINGS, Rk512Station
 from ptpcert.procedures import by_name
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.p3964.model.station import Station3964
+from ptpcert.procedures.rk512.model import RK512_READINGS, Rk512Station
 from ptpcert.profile import load_profile
-from ptpcert.runner import RunOptions, Runner
+from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
 from ptpcert.transport import make_factory
-
-from rk512_helpers import pair, params, settle
-from rk512_rules import header, response
 
 ROOT = Path(__file__).resolve().parent.parent
 PROFILE = ROOT / "conformance" / "profiles" / "rk512-reference.toml"
@@ -455,7 +455,7 @@ def _seat_a(kind: str):
         return Station3964(pa.line, name="a")
     if kind in MUTANTS:
         return MUTANTS[kind].make(pa, name="a")
-    from ptpcert.mutants import MUTANTS as LINK_MUTANTS
+    from ptpcert.procedures.p3964.mutants import MUTANTS as LINK_MUTANTS
     return LINK_MUTANTS[kind].make(pa.line, name="a")
 
 

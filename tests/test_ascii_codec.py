@@ -2,11 +2,11 @@
 the frame decoder for transcripts, and the station's explanation of what it sent."""
 
 import pytest
-
 from ascii_bench import Bench
-from ptpcert.model.ascii import AsciiParams, AsciiReadings, char_name, describe, send_bytes, split_frames
-from ptpcert.model.ascii.codec import find_end
-from ptpcert.model.codec import parse_hex
+
+from ptpcert.model.hexbytes import parse_hex
+from ptpcert.procedures.ascii.model import AsciiParams, AsciiReadings, char_name, describe, send_bytes, split_frames
+from ptpcert.procedures.ascii.model.codec import find_end
 
 H = parse_hex
 EC = AsciiParams(end_criterion="end_chars", end_chars=(0x03,))

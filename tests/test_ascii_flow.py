@@ -2,14 +2,14 @@
 and the automatic use of the V.24 signals (§2.2.4; Fig. 2-24), in virtual time."""
 
 import pytest
-
 from ascii_bench import Bench
-from ptpcert.model.ascii import AsciiParams, AsciiReadings
-from ptpcert.model.ascii import events as aev
-from ptpcert.model.ascii.table import RxState, TxState
-from ptpcert.model.codec import parse_hex
+
 from ptpcert.model.codes import Code
 from ptpcert.model.events import SendDone
+from ptpcert.model.hexbytes import parse_hex
+from ptpcert.procedures.ascii.model import AsciiParams, AsciiReadings
+from ptpcert.procedures.ascii.model import events as aev
+from ptpcert.procedures.ascii.model.table import RxState, TxState
 
 H = parse_hex
 XON, XOFF = 0x11, 0x13

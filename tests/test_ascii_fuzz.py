@@ -10,18 +10,19 @@ import sys
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, Phase, given, settings, strategies as st
+from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import strategies as st
 
 from ptpcert import results as R
 from ptpcert.fuzz import Campaign, export
-from ptpcert.fuzz_ascii import AsciiGenerator
-from ptpcert.model.ascii import AsciiHost, AsciiParams, AsciiStation, send_bytes
-from ptpcert.model.ascii.events import FrameDiscarded
 from ptpcert.model.codes import Code
 from ptpcert.model.events import Delivered, SendDone, SendFailed
 from ptpcert.model.link import CORRUPT, DELIVER, DROP, Link
-from ptpcert.procedures.ascii import reference_profile
-from ptpcert.runner import RunOptions, Runner
+from ptpcert.procedures.ascii.description import reference_profile
+from ptpcert.procedures.ascii.fuzz import AsciiGenerator
+from ptpcert.procedures.ascii.model import AsciiHost, AsciiParams, AsciiStation, send_bytes
+from ptpcert.procedures.ascii.model.events import FrameDiscarded
+from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_dir
 from ptpcert.transport import make_factory
 
@@ -105,7 +106,7 @@ def test_two_stations_never_deadlock_and_end_every_job(crit, flow):
 
 
 def _split(p: AsciiParams, wire: bytes) -> list[bytes]:
-    from ptpcert.model.ascii import split_frames
+    from ptpcert.procedures.ascii.model import split_frames
     if p.end_criterion == "cdt":
         return [wire]
     return [x.data for x in split_frames(wire, p) if x.kind == "frame"]

@@ -6,11 +6,11 @@ in order; every character of its send jobs goes on the line once, in order."""
 import random
 
 import pytest
-
 from ascii_bench import Bench
-from ptpcert.model.ascii import AsciiParams, send_bytes
-from ptpcert.model.ascii import events as aev
+
 from ptpcert.model.codes import Code
+from ptpcert.procedures.ascii.model import AsciiParams, send_bytes
+from ptpcert.procedures.ascii.model import events as aev
 
 RX_CODES = {Code.CDT_EXCEEDED, Code.CHARACTER_ERROR, Code.LINE_BREAK, Code.NO_RECEIVE_BUFFER,
             Code.FRAME_TOO_LONG}

@@ -4,11 +4,11 @@ end criterion, with and without XON/XOFF, RTS/CTS over a null-modem cable."""
 import pytest
 
 from ptpcert.driver import Endpoint, drive_station
-from ptpcert.model.ascii import AsciiHost, AsciiParams, AsciiStation
-from ptpcert.model.ascii.events import FrameDiscarded
 from ptpcert.model.codes import Code
 from ptpcert.model.events import Delivered, SendDone, SendFailed, Status
 from ptpcert.model.link import CORRUPT, DELIVER, Link
+from ptpcert.procedures.ascii.model import AsciiHost, AsciiParams, AsciiStation
+from ptpcert.procedures.ascii.model.events import FrameDiscarded
 
 CRITERIA = {
     "cdt": dict(end_criterion="cdt"),

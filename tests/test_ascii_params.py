@@ -4,11 +4,11 @@ STOP after a bad parameter set (16#020F)."""
 
 import pytest
 
-from ptpcert.model.ascii import AsciiParams, AsciiStation
-from ptpcert.model.ascii.params import MIN_CDT_MS, default_cdt_ms
 from ptpcert.model.codes import Code
+from ptpcert.model.errors import ParameterError
 from ptpcert.model.events import SendFailed, Status
-from ptpcert.model.params import ParameterError
+from ptpcert.procedures.ascii.model import AsciiParams, AsciiStation
+from ptpcert.procedures.ascii.model.params import MIN_CDT_MS, default_cdt_ms
 
 
 def test_defaults_are_the_manuals():

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from ptpcert.mutants_ascii import MUTANTS
-from ptpcert.procedures.ascii import iut_command, reference_profile
+from ptpcert.procedures.ascii.description import iut_command, reference_profile
+from ptpcert.procedures.ascii.mutants import MUTANTS
 
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable

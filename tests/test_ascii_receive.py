@@ -6,12 +6,12 @@ overwrite. "idle" is 20 ms of quiet line, "g" a gap of 1 ms between two characte
 expected frames are written from the manual's rules, never taken from the model."""
 
 import pytest
-
 from ascii_bench import GAP, Bench
-from ptpcert.model.ascii import AsciiParams, AsciiReadings
-from ptpcert.model.ascii import events as aev
-from ptpcert.model.codec import parse_hex
+
 from ptpcert.model.codes import Code
+from ptpcert.model.hexbytes import parse_hex
+from ptpcert.procedures.ascii.model import AsciiParams, AsciiReadings
+from ptpcert.procedures.ascii.model import events as aev
 
 H = parse_hex
 CDT = AsciiParams(end_criterion="cdt")

@@ -2,12 +2,12 @@
 in virtual time. The expected line is written from the manual's rules."""
 
 import pytest
-
 from ascii_bench import Bench
-from ptpcert.model.ascii import AsciiParams, AsciiReadings, send_bytes
-from ptpcert.model.codec import parse_hex
+
 from ptpcert.model.codes import Code
 from ptpcert.model.events import Delivered, SendDone
+from ptpcert.model.hexbytes import parse_hex
+from ptpcert.procedures.ascii.model import AsciiParams, AsciiReadings, send_bytes
 
 H = parse_hex
 EC = AsciiParams(end_criterion="end_chars", end_chars=(0x03,))

@@ -11,10 +11,10 @@ import pytest
 
 import ptpcert.conformance as conformance
 from ptpcert import results as R
-from ptpcert.mutants_ascii import MUTANTS
-from ptpcert.procedures.ascii import GROUPS, PAscii, reference_profile
+from ptpcert.procedures.ascii.description import GROUPS, PAscii, reference_profile
+from ptpcert.procedures.ascii.mutants import MUTANTS
 from ptpcert.profile import ProfileError, load_profile
-from ptpcert.runner import RunOptions, Runner
+from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
 from ptpcert.transport import make_factory
@@ -144,7 +144,7 @@ def test_soft_grades_come_from_another_reading_only():
     what it does differently is graded informational or non-strict, never failed."""
     from dataclasses import replace
 
-    from ptpcert.model.ascii.readings import READINGS
+    from ptpcert.procedures.ascii.model.readings import READINGS
     from ptpcert.transport import sim_factory
 
     other = replace(READINGS, q10_trailing_discard_code=None, q12_cdt_also_reports_0806=True,

@@ -5,10 +5,10 @@ Rows marked impossible must be refused with ModelError."""
 
 import pytest
 
-from ptpcert.model.ascii import AsciiJob, AsciiParams, AsciiStation
-from ptpcert.model.ascii import table as T
-from ptpcert.model.ascii.table import FcInput, FcState, RxInput, RxState, TxInput, TxState
-from ptpcert.model.station import ModelError
+from ptpcert.model.errors import ModelError
+from ptpcert.procedures.ascii.model import AsciiJob, AsciiParams, AsciiStation
+from ptpcert.procedures.ascii.model import table as T
+from ptpcert.procedures.ascii.model.table import FcInput, FcState, RxInput, RxState, TxInput, TxState
 
 BASE = dict(flow_control="auto_v24")   # the only mode with DSR inputs to the receiver
 RX_PARAMS = {

@@ -19,14 +19,16 @@ import sys
 from pathlib import Path
 
 import pytest
-
-from ptpcert.results import unpack_transcript
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from ptpcert import capture as C
 from ptpcert.cli import main as cli_main
-from ptpcert.model import Params3964, Station3964, codec
 from ptpcert.model.events import Delivered
+from ptpcert.procedures.p3964.model import codec
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.p3964.model.station import Station3964
+from ptpcert.results import unpack_transcript
 
 ROOT = Path(__file__).resolve().parent.parent
 PROFILE = ROOT / "conformance" / "profiles" / "reference-20ms.toml"

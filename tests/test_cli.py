@@ -73,16 +73,16 @@ def test_the_reference_iut_starts_without_what_it_does_not_need():
                            "--adt-ms", "20", "--parmrk"], stdin=subprocess.DEVNULL, capture_output=True,
                           text=True, timeout=60)
     loaded = {line.rsplit("|", 1)[-1].strip() for line in done.stderr.splitlines() if line.startswith("import time:")}
-    assert "ptpcert.model.station" in loaded and "ptpcert.iut" in loaded   # the import log is read
-    for heavy in ("ptpcert.model.ascii.station", "ptpcert.capture", "ptpcert.cli_analyze", "ptpcert.cli_rules"):
+    assert "ptpcert.procedures.p3964.model.station" in loaded and "ptpcert.iut" in loaded   # the import log is read
+    for heavy in ("ptpcert.procedures.ascii.model.station", "ptpcert.capture", "ptpcert.cli.analyze", "ptpcert.cli.rules"):
         assert heavy not in loaded, f"ptpcert iut loads {heavy}"
 
 
 def test_the_ascii_model_loads_each_name_on_first_use():
-    import ptpcert.model.ascii as m
+    import ptpcert.procedures.ascii.model as m
 
     for name in m.__all__:
         assert getattr(m, name) is not None
-    assert m.AsciiStation.__module__ == "ptpcert.model.ascii.station"
+    assert m.AsciiStation.__module__ == "ptpcert.procedures.ascii.model.station"
     with pytest.raises(AttributeError):
         m.NoSuchName

@@ -2,10 +2,12 @@
 (Fig. 2-4 and blocks with data DLEs, §2.2.2 Block check character) and both ways with hypothesis."""
 
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import given
+from hypothesis import strategies as st
 
-from ptpcert.model import codec
-from ptpcert.model.codec import DLE, FrameError, bcc, body, frame, parse, parse_body, parse_hex, stuff, unstuff
+from ptpcert.model.hexbytes import hexstr, parse_hex
+from ptpcert.procedures.p3964.model import codec
+from ptpcert.procedures.p3964.model.codec import DLE, FrameError, bcc, body, frame, parse, parse_body, stuff, unstuff
 
 P1 = parse_hex("31 10 32 15 03")
 
@@ -124,7 +126,7 @@ def test_missing_stx_and_lone_dle():
 
 
 def test_hex_helpers():
-    assert codec.hexstr(parse_hex("0210 1003")) == "02 10 10 03"
+    assert hexstr(parse_hex("0210 1003")) == "02 10 10 03"
     with pytest.raises(ValueError, match="odd"):
         parse_hex("021")
     with pytest.raises(ValueError, match="not a hex digit"):

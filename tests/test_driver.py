@@ -5,8 +5,11 @@ while it was not running (issue 10, false alarm 5: the reference IUT under load)
 import pytest
 
 from ptpcert.driver import Endpoint, drive_station
-from ptpcert.model import Host, Params3964, Station3964, codec
+from ptpcert.model.app import Host
 from ptpcert.model.events import Delivered, Status
+from ptpcert.procedures.p3964.model import codec
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.p3964.model.station import Station3964
 
 P = Params3964(procedure="3964R", cdt_ms=20, adt_ms=20)
 STX, DLE, NAK = 0x02, 0x10, 0x15

@@ -14,19 +14,18 @@ import sys
 import xml.etree.ElementTree as ET
 
 import pytest
+from rk512_profiles import rk_profile
 
-from ptpcert import html as H
 from ptpcert import report
 from ptpcert import results as R
-from ptpcert.model.rk512 import codec as rk
 from ptpcert.procedures import by_id
-from ptpcert.procedures.rk512 import decode_blocks
-from ptpcert.runner import RunOptions, Runner
+from ptpcert.procedures.rk512.description import decode_blocks
+from ptpcert.procedures.rk512.model import codec as rk
+from ptpcert.report import html as H
+from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
 from ptpcert.transport import make_factory
-
-from rk512_profiles import rk_profile
 
 RK = by_id("rk512")
 SEND_200 = "SUITE.RK512.P-02.SEND-200"
@@ -235,8 +234,9 @@ def test_a_malformed_frame_is_refused_naming_it(broken, bad, where):
 
 # ------------------------------------------------------------------ ASCII: end characters and the CDT
 def test_ascii_frames_name_their_end_characters_and_show_the_cdt():
-    from ptpcert.model.ascii.codec import char_name
     from test_ascii_suite import COMBOS, reference_profile
+
+    from ptpcert.procedures.ascii.model.codec import char_name
 
     prof = reference_profile(**COMBOS["ec-xon-8-c"])
     p = prof.params

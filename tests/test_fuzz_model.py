@@ -34,14 +34,17 @@ from bisect import bisect_right
 from collections import Counter
 
 import pytest
-
-from hypothesis import given, note, seed as fixed_seed, settings, strategies as st
+from hypothesis import given, note, settings
+from hypothesis import seed as fixed_seed
+from hypothesis import strategies as st
 
 import ptpcert.fuzz  # noqa: F401  (registers the settings profiles)
-from ptpcert.model import Params3964, Station3964, codec, table as T
 from ptpcert.model.events import Delivered, SendDone, SendFailed, Status
 from ptpcert.model.link import CORRUPT, DELIVER, DROP, DUPLICATE, Link
-from ptpcert.model.params import T_BLOCK, T_NAKTIM
+from ptpcert.procedures.p3964.model import codec
+from ptpcert.procedures.p3964.model import table as T
+from ptpcert.procedures.p3964.model.params import T_BLOCK, T_NAKTIM, Params3964
+from ptpcert.procedures.p3964.model.station import Station3964
 
 CONTROL = [0x10, 0x02, 0x03, 0x15, 0x00]
 
@@ -415,7 +418,7 @@ def test_level_1_finds_a_station_that_counts_a_data_dle_once_in_the_bcc(monkeypa
     from the variant that counts a doubled data DLE once in the BCC (harness/mutants.py)."""
     from hypothesis import Phase
 
-    from ptpcert.mutants import MUTANTS
+    from ptpcert.procedures.p3964.mutants import MUTANTS
 
     monkeypatch.setattr(sys.modules[__name__], "Station3964", MUTANTS["bcc-dle-counted-once"].make)
     with pytest.raises(AssertionError):

@@ -8,13 +8,14 @@ vector fails on replay. All in virtual time (sim:)."""
 from dataclasses import replace
 
 import pytest
-from hypothesis import Phase, given, settings, strategies as st
+from hypothesis import Phase, given, settings
+from hypothesis import strategies as st
 
 from ptpcert import results as R
 from ptpcert.fuzz import Campaign, CoSim, Finding, Generator
-from ptpcert.model import codec
+from ptpcert.procedures.p3964.model import codec
 from ptpcert.profile import reference_profile
-from ptpcert.runner import RunOptions, Runner, realtime_tolerance
+from ptpcert.runner import Runner, RunOptions, realtime_tolerance
 from ptpcert.scenario import expand, timer_env
 from ptpcert.transport import make_factory
 

@@ -6,16 +6,16 @@ that fails the variant and passes the model; the run names its procedure's kit."
 import subprocess
 
 import pytest
-from hypothesis import HealthCheck, Phase, given, settings, strategies as st
+from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import strategies as st
+from rk512_profiles import PY, ROOT, rk_profile, rk_profile_dict, write_profile
 
 from ptpcert import results as R
-from ptpcert.fuzz_rk512 import KIT_RK512, RkGenerator
 from ptpcert.procedures import by_id
-from ptpcert.runner import RunOptions, Runner
+from ptpcert.procedures.rk512.fuzz import KIT_RK512, RkGenerator
+from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_dir
 from ptpcert.transport import make_factory
-
-from rk512_profiles import PY, ROOT, rk_profile, rk_profile_dict, write_profile
 
 SMALL = dict(t_res=500, db_bytes=512, byte_area_bytes=256, cell_area_cells=256)
 

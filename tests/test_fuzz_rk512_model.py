@@ -16,14 +16,15 @@ layer checked after every step (§2.2.3, Figs. 2-17 to 2-19):
 Settings: the "ptpcert-quick" profile unless --hypothesis-profile says otherwise.
 """
 
-from hypothesis import note, strategies as st
+from hypothesis import note
+from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, precondition, rule
 
 import ptpcert.fuzz  # noqa: F401  (registers the settings profiles)
-from ptpcert.model import Params3964
 from ptpcert.model.link import CORRUPT, DELIVER, DROP, DUPLICATE, Link
-from ptpcert.model.rk512 import Rk512Host, Rk512Params, Rk512Station
-from ptpcert.model.rk512.events import FrameNotSent, FrameReceived, FrameSent, RequestResult, Served
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.rk512.model import Rk512Host, Rk512Params, Rk512Station
+from ptpcert.procedures.rk512.model.events import FrameNotSent, FrameReceived, FrameSent, RequestResult, Served
 
 AREAS = st.sampled_from(["DB5", "DB9", "DX3", "M", "E", "A", "T", "Z", "DB0", "DB250"])
 LENGTHS = st.sampled_from([1, 2, 6, 127, 128, 129, 130, 256, 300, 600, 1024, 1025])

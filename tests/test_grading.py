@@ -9,11 +9,11 @@ from pathlib import Path
 import pytest
 
 from ptpcert import results as R
-from ptpcert.model import Host
-from ptpcert.model.readings import Readings
+from ptpcert.model.app import Host
 from ptpcert.procedures import by_id
+from ptpcert.procedures.p3964.model.readings import Readings
 from ptpcert.profile import reference_profile
-from ptpcert.runner import RunOptions, Runner
+from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
 from ptpcert.transport import sim_factory

@@ -20,13 +20,12 @@ from pathlib import Path
 
 import pytest
 
-from ptpcert import html as H
 from ptpcert import results as R
-from ptpcert.scenario import load_vector_sets
 from ptpcert.profile import load_profile
 from ptpcert.report import anchor
-from ptpcert.runner import RunOptions, Runner
-from ptpcert.scenario import vector_set_hash
+from ptpcert.report import html as H
+from ptpcert.runner import Runner, RunOptions
+from ptpcert.scenario import load_vector_sets, vector_set_hash
 from ptpcert.suite import load_suite
 from ptpcert.transport import make_factory
 
@@ -434,7 +433,7 @@ def test_full_suite_and_large_cases_stay_under_2mb(full_run):
 
 
 def test_cli_report_renders_saved_results(full_run, tmp_path):
-    from ptpcert.cli_run import cmd_report
+    from ptpcert.cli.run import cmd_report
 
     j = tmp_path / "r.json"
     mixed_run(full_run).write_json(j)
@@ -551,7 +550,7 @@ def test_the_report_works_in_headless_chromium(full_run, tmp_path):
 
 
 def test_traceability_section_gives_each_rule_this_runs_verdict():
-    from ptpcert.html_rules import rule_verdicts, traceability_section
+    from ptpcert.report.html.rules import rule_verdicts, traceability_section
     from ptpcert.rules import for_procedure
 
     cat = for_procedure("3964r")
@@ -572,7 +571,7 @@ def test_traceability_section_gives_each_rule_this_runs_verdict():
     section = traceability_section(run)
     assert 'id="traceability"' in section and "3964.IDLE.STRAY-NAK" in section
     assert '<a href="#' in section and "A17" in section and "docs/readings.md" in section
-    from ptpcert.html import render
+    from ptpcert.report.html import render
     page = render(run)
     assert page.index('id="summary"') < page.index('id="traceability"') < page.index('id="cases"')
     # a run of a procedure without a catalogue has no such section

@@ -16,10 +16,10 @@ from pathlib import Path
 import pytest
 
 from ptpcert import results as R
-from ptpcert.parallel import ParallelRun, parse_jobs, plan_workers
 from ptpcert.profile import load_profile
 from ptpcert.report import write_junit
 from ptpcert.runner import Runner
+from ptpcert.runner.parallel import ParallelRun, parse_jobs, plan_workers
 from ptpcert.suite import load_suite
 from ptpcert.transport import Factory, ProcessFactory, make_factory
 
@@ -211,7 +211,7 @@ def test_junit_and_html_name_the_device(tmp_path):
     props = [{p.get("name"): p.get("value") for p in tc.iter("property")} for tc in tcs]
     assert props == [{"device": "socket://h:1"}, {"device": "socket://h:2"}]
     assert tcs[1].find("failure") is not None
-    from ptpcert.html import render
+    from ptpcert.report.html import render
     html = render(run)
     assert "socket://h:1" in html and "socket://h:2" in html
     # the results object keeps it
@@ -316,7 +316,7 @@ def test_a_pool_of_two_port_servers(tmp_path):
 
 
 def test_the_workers_of_one_device_share_what_the_runner_learns(monkeypatch):
-    import ptpcert.parallel as P
+    import ptpcert.runner.parallel as P
 
     seen = []
 

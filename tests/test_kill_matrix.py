@@ -7,9 +7,9 @@ that catches each variant is benchmarks/kill_matrix.py."""
 import pytest
 
 from ptpcert import results as R
-from ptpcert.mutants import MUTANTS
+from ptpcert.procedures.p3964.mutants import MUTANTS
 from ptpcert.profile import reference_profile
-from ptpcert.runner import RunOptions, Runner
+from ptpcert.runner import Runner, RunOptions
 from ptpcert.suite import load_suite
 from ptpcert.transport import make_factory
 

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from ptpcert.line_frame import FIELDS, check_pty, compare, frame_of_termios, pty_keeps, read_frame
 from ptpcert.profile import reference_profile
+from ptpcert.transport.line_frame import FIELDS, check_pty, compare, frame_of_termios, pty_keeps, read_frame
 
 ROOT = Path(__file__).resolve().parent.parent
 PROFILE = reference_profile().params      # 9600 bit/s, 8 data bits, even parity, 1 stop bit

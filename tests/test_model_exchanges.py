@@ -3,10 +3,14 @@
 
 import pytest
 
-from ptpcert.model import Params3964, Station3964, codec, events as ev
-from ptpcert.model.codec import DLE, NAK, STX, parse_hex
+from ptpcert.model.codes import Code
 from ptpcert.model.events import Delivered, SendDone, SendFailed, Status
+from ptpcert.model.hexbytes import parse_hex
 from ptpcert.model.link import CORRUPT, DELIVER, DROP, Link
+from ptpcert.procedures.p3964.model import codec
+from ptpcert.procedures.p3964.model.codec import DLE, NAK, STX
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.p3964.model.station import Station3964
 
 P1 = parse_hex("31 10 32 15 03")
 P2 = parse_hex("41 42 10")
@@ -92,7 +96,7 @@ def test_conflict_resumes_as_second_setup_attempt():
     assert [e.payload for e in link.events_of(a, Delivered)] == [P2]
     assert bytes_from(link, "a").count(STX) == 2
     assert bytes_from(link, "a").endswith(b"\x02\x15")
-    assert codes(link, a) == [ev.SETUP_REFUSED, ev.SETUP_ATTEMPTS_EXCEEDED]
+    assert codes(link, a) == [Code.SETUP_REFUSED, Code.SETUP_ATTEMPTS_EXCEEDED]
 
 
 def test_setup_timeout_exhausts_setup_attempts():
@@ -105,7 +109,7 @@ def test_setup_timeout_exhausts_setup_attempts():
     gaps = [t2 - t1 for t1, t2 in zip(starts, starts[1:])]
     adt, char = a.params.adt, a.params.char_time
     assert all(abs(g - (adt + 2 * char)) < 1e-9 for g in gaps)  # STX end + ADT + 1 char grace
-    assert codes(link, a) == [ev.SETUP_TIMEOUT] * 4 + [ev.SETUP_ATTEMPTS_EXCEEDED]
+    assert codes(link, a) == [Code.SETUP_TIMEOUT] * 4 + [Code.SETUP_ATTEMPTS_EXCEEDED]
     assert isinstance(link.events_of(a)[-1], SendFailed)
 
 
@@ -118,8 +122,8 @@ def test_setup_refused_when_partner_has_no_buffer():
     assert link.run_until_quiet(60)
     assert bytes_from(link, "a") == b"\x02\x02\x02\x15"
     assert bytes_from(link, "b") == b"\x15\x15\x15"
-    assert codes(link, a) == [ev.SETUP_REFUSED] * 3 + [ev.SETUP_ATTEMPTS_EXCEEDED]
-    assert codes(link, b) == [ev.NO_RECEIVE_BUFFER] * 3
+    assert codes(link, a) == [Code.SETUP_REFUSED] * 3 + [Code.SETUP_ATTEMPTS_EXCEEDED]
+    assert codes(link, b) == [Code.NO_RECEIVE_BUFFER] * 3
     naks = [w.start for w in link.wire if w.src == "b"]
     stxs = [w.start for w in link.wire if w.src == "a" and w.byte == STX]
     assert naks[0] - stxs[0] == pytest.approx(0.4 + a.params.char_time)
@@ -157,8 +161,8 @@ def test_repetition_after_bad_block():
     t = link.transcript()
     assert t[:4] == [("a", b"\x02"), ("b", b"\x10"), ("a", codec.body(P1, "3964R")), ("b", b"\x15")]
     assert t[4:] == [("a", b"\x02"), ("b", b"\x10"), ("a", codec.body(P1, "3964R")), ("b", b"\x10")]
-    assert codes(link, b) == [ev.CHARACTER_ERROR, ev.EXPECT_REPETITION]
-    assert codes(link, a) == [ev.RELEASE_REFUSED, ev.FIRST_REPETITION]
+    assert codes(link, b) == [Code.CHARACTER_ERROR, Code.EXPECT_REPETITION]
+    assert codes(link, a) == [Code.RELEASE_REFUSED, Code.FIRST_REPETITION]
     assert [e.payload for e in link.events_of(b, Delivered)] == [P1]
 
 
@@ -168,11 +172,11 @@ def test_transmission_attempts_exhausted():
     link.request(a, P1, at=0.1)
     assert link.run_until_quiet(60)
     assert bytes_from(link, "a") == (codec.frame(P1, "3964R") * 3) + b"\x15"
-    assert codes(link, a) == [ev.RELEASE_REFUSED, ev.FIRST_REPETITION, ev.RELEASE_REFUSED,
-                              ev.RELEASE_REFUSED, ev.TX_ATTEMPTS_EXCEEDED]
+    assert codes(link, a) == [Code.RELEASE_REFUSED, Code.FIRST_REPETITION, Code.RELEASE_REFUSED,
+                              Code.RELEASE_REFUSED, Code.TX_ATTEMPTS_EXCEEDED]
     # the receiver gives up after its own N receptions (A18): final report of the first error
-    assert codes(link, b) == [ev.CHARACTER_ERROR, ev.EXPECT_REPETITION, ev.CHARACTER_ERROR,
-                              ev.CHARACTER_ERROR, ev.CHARACTER_ERROR]
+    assert codes(link, b) == [Code.CHARACTER_ERROR, Code.EXPECT_REPETITION, Code.CHARACTER_ERROR,
+                              Code.CHARACTER_ERROR, Code.CHARACTER_ERROR]
     assert b.state == "IDLE"
 
 
@@ -182,7 +186,7 @@ def test_release_timeout_then_duplicate_delivery():
     link, a, b = pair(hook=corrupt_nth(DLE, "b", {2}))
     link.request(a, P1, at=0.1)
     assert link.run_until_quiet(30)
-    assert codes(link, a)[:2] == [ev.CHARACTER_ERROR, ev.FIRST_REPETITION]
+    assert codes(link, a)[:2] == [Code.CHARACTER_ERROR, Code.FIRST_REPETITION]
     count = {"b": 0}
 
     def drop_first_final_dle(w):
@@ -194,7 +198,7 @@ def test_release_timeout_then_duplicate_delivery():
     link2, a2, b2 = pair(hook=drop_first_final_dle)
     link2.request(a2, P1, at=0.1)
     assert link2.run_until_quiet(30)
-    assert codes(link2, a2) == [ev.RELEASE_TIMEOUT, ev.FIRST_REPETITION]
+    assert codes(link2, a2) == [Code.RELEASE_TIMEOUT, Code.FIRST_REPETITION]
     assert [e.payload for e in link2.events_of(b2, Delivered)] == [P1, P1]
 
 
@@ -209,7 +213,7 @@ def test_character_delay_timeout_in_receiver():
     assert t == pytest.approx(0.11 + 0.22 + a.params.char_time)
     a.handle_timer(t)
     assert [b for _, b in a.pop_output()] == [NAK]
-    assert [e.code for e in a.pop_events()] == [ev.CDT_EXCEEDED, ev.EXPECT_REPETITION]
+    assert [e.code for e in a.pop_events()] == [Code.CDT_EXCEEDED, Code.EXPECT_REPETITION]
     assert a.state == "WAIT_REPETITION"
 
 
@@ -234,7 +238,7 @@ def test_dle_followed_by_other_nak_deferred_to_end():
     assert a.pop_output() == []
     a.receive(0.12, 0x41)
     assert [b for _, b in a.pop_output()] == [NAK]
-    assert [e.code for e in a.pop_events()] == [ev.RX_LOGICAL_ERROR, ev.EXPECT_REPETITION]
+    assert [e.code for e in a.pop_events()] == [Code.RX_LOGICAL_ERROR, Code.EXPECT_REPETITION]
 
 
 def test_idle_garbage_nak_after_quiet_cdt_retriggered():
@@ -249,7 +253,7 @@ def test_idle_garbage_nak_after_quiet_cdt_retriggered():
     assert t == pytest.approx(1.2 + 0.22 + a.params.char_time)
     a.handle_timer(t)
     assert [b for _, b in a.pop_output()] == [NAK]
-    assert [e.code for e in a.pop_events()] == [ev.RX_SETUP_ERROR]
+    assert [e.code for e in a.pop_events()] == [Code.RX_SETUP_ERROR]
 
 
 def test_max_block_length():
@@ -265,7 +269,7 @@ def test_max_block_length():
         if ok:
             assert isinstance(evs[0], Delivered) and len(evs[0].payload) == 1024
         else:
-            assert [e.code for e in evs] == [ev.FRAME_TOO_LONG, ev.EXPECT_REPETITION]
+            assert [e.code for e in evs] == [Code.FRAME_TOO_LONG, Code.EXPECT_REPETITION]
 
 
 def test_3964_receiver_acknowledges_at_etx():
@@ -296,7 +300,7 @@ def test_nak_during_data_phase_sender_stops_and_restarts_without_nak():
     a.receive(t, NAK)
     rest = a.pop_output()
     assert [b for _, b in rest] == [STX]
-    assert [e.code for e in a.pop_events()] == [ev.SEND_INTERRUPTED, ev.FIRST_REPETITION]
+    assert [e.code for e in a.pop_events()] == [Code.SEND_INTERRUPTED, Code.FIRST_REPETITION]
 
 
 def test_other_character_during_data_phase():
@@ -317,7 +321,7 @@ def test_other_character_during_data_phase():
     assert d == pytest.approx(t + 0.1 + 0.22 + a.params.char_time)
     a.handle_timer(d)
     assert [b for _, b in a.pop_output()] == [NAK, STX]
-    assert [e.code for e in a.pop_events()] == [ev.SEND_INTERRUPTED, ev.FIRST_REPETITION]
+    assert [e.code for e in a.pop_events()] == [Code.SEND_INTERRUPTED, Code.FIRST_REPETITION]
 
 
 def test_dle_too_early_during_bcc():
@@ -331,7 +335,7 @@ def test_dle_too_early_during_bcc():
     out = a.pop_output()
     bcc_start = out[-1][0]
     a.receive(bcc_start + a.params.char_time / 2, DLE)
-    assert [e.code for e in a.pop_events()] == [ev.RELEASE_REFUSED, ev.FIRST_REPETITION]
+    assert [e.code for e in a.pop_events()] == [Code.RELEASE_REFUSED, Code.FIRST_REPETITION]
     assert [b for _, b in a.pop_output()] == [STX]
 
 
@@ -365,7 +369,7 @@ def test_break_returns_to_idle_without_nak(where):
     assert a.state == "IDLE" and a.job is None
     assert a.pop_output() == []  # nothing more: no NAK, no retry
     codes_ = [e.code for e in a.pop_events() if isinstance(e, Status)]
-    assert codes_ and set(codes_) == {ev.LINE_BREAK}
+    assert codes_ and set(codes_) == {Code.LINE_BREAK}
     a.receive(t + 1, STX)
     assert [b for _, b in a.pop_output()] == [DLE]
     assert before >= 0
@@ -395,7 +399,7 @@ def test_release_refused_by_stx_is_not_a_conflict():
     a.handle_timer(a._tx_done_at)
     a.pop_output()
     a.receive(a.now + 0.01, STX)
-    assert [e.code for e in a.pop_events()] == [ev.RELEASE_REFUSED, ev.FIRST_REPETITION]
+    assert [e.code for e in a.pop_events()] == [Code.RELEASE_REFUSED, Code.FIRST_REPETITION]
     assert [b for _, b in a.pop_output()] == [STX]
 
 
@@ -404,7 +408,7 @@ def test_send_request_validation():
     a.power_on(0.0)
     assert not a.request_send(0.1, b"")
     assert not a.request_send(0.1, bytes(1025))
-    assert [e.code for e in a.pop_events() if isinstance(e, Status)] == [ev.LEN_ILLEGAL] * 2
+    assert [e.code for e in a.pop_events() if isinstance(e, Status)] == [Code.LEN_ILLEGAL] * 2
 
 
 def test_jobs_queue_until_idle():

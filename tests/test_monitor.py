@@ -24,12 +24,12 @@ from pathlib import Path
 
 import pytest
 
-from ptpcert import analyze as A
+from ptpcert import analysis as A
 from ptpcert import capture as C
 from ptpcert import results as R
-from ptpcert.model import Params3964
-from ptpcert.monitor import chunks_of
+from ptpcert.analysis.monitor import chunks_of
 from ptpcert.procedures import by_name
+from ptpcert.procedures.p3964.model.params import Params3964
 
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable

@@ -2,7 +2,8 @@
 
 import pytest
 
-from ptpcert.model import ParameterError, Params3964
+from ptpcert.model.errors import ParameterError
+from ptpcert.procedures.p3964.model.params import Params3964
 
 
 def test_defaults_are_the_manuals():

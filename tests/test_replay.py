@@ -5,9 +5,9 @@ one no timing explains, and judges an exchange by the rule for the state the IUT
 import pytest
 
 from ptpcert import replay as RP
-from ptpcert.model import codec
+from ptpcert.procedures.p3964.model import codec
 from ptpcert.profile import reference_profile
-from ptpcert.runner import RunOptions, Runner, realtime_tolerance
+from ptpcert.runner import Runner, RunOptions, realtime_tolerance
 from ptpcert.scenario import Vector, load_vector_sets
 from ptpcert.suite import load_suite
 from ptpcert.transport import sim_factory

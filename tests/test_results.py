@@ -11,10 +11,10 @@ from pathlib import Path
 
 import pytest
 
-from ptpcert import html as H
 from ptpcert import results as R
 from ptpcert.profile import load_profile
-from ptpcert.runner import RunOptions, Runner
+from ptpcert.report import html as H
+from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
 from ptpcert.transport import Factory, make_factory
@@ -87,8 +87,9 @@ def test_a_suite_run_is_far_smaller_as_runs_and_renders_as_before():
 
 
 def test_report_reads_schema_1_and_schema_2(tmp_path):
-    from ptpcert.cli_run import cmd_report
     from argparse import Namespace
+
+    from ptpcert.cli.run import cmd_report
 
     run = sim_run(["3964R.FIG2-6.*", "3964R.D0*"])
     data = json.loads(run.to_json())

@@ -7,19 +7,26 @@ from collections import deque
 from math import inf
 
 import pytest
+from rk512_helpers import codes, of, params, results
+from rk512_rules import DLE, STX, body, header, response
 
 from ptpcert.driver import Endpoint, drive_station
-from ptpcert.model import Params3964
 from ptpcert.model.codes import Code
 from ptpcert.model.events import Status
 from ptpcert.model.link import Link
-from ptpcert.model.rk512 import (FrameLink, RequestResult, Rk512Core, Rk512Host, Rk512Params, Rk512Station,
-                                 interface_lines, parse_cf_set)
-from ptpcert.model.rk512.events import FrameReceived, FrameSent, Ready
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.rk512.model import (
+    FrameLink,
+    RequestResult,
+    Rk512Core,
+    Rk512Host,
+    Rk512Params,
+    Rk512Station,
+    interface_lines,
+    parse_cf_set,
+)
+from ptpcert.procedures.rk512.model.events import FrameReceived, FrameSent, Ready
 from ptpcert.transport.sim import SimTransport
-
-from rk512_helpers import codes, of, params, results
-from rk512_rules import DLE, STX, body, header, response
 
 SCRIPT = """
 send DB10:DW0:LEN=200

@@ -3,14 +3,12 @@ matrix, continuation and response frames, classification, segmentation, REATEL <
 and the frame labels (§2.2.3, Tables 2-1/2-2, Figs. 2-13 to 2-16; §6.3.2; Table 8-3)."""
 
 import pytest
-
-from ptpcert.model import codec as link_codec
-from ptpcert.model.codes import Code
-from ptpcert.model.rk512 import codec as C
-from ptpcert.model.rk512.codec import Area, Header, Kind
-
 from rk512_rules import TABLE_8_3, UNKNOWN_REATEL, body, continuation, header, hexb, response
 
+from ptpcert.model.codes import Code
+from ptpcert.procedures.p3964.model import codec as link_codec
+from ptpcert.procedures.rk512.model import codec as C
+from ptpcert.procedures.rk512.model.codec import Area, Header, Kind
 
 # -- headers -------------------------------------------------------------------------------
 # (op, area, number, address, LEN) -> the header the rules give (Table 2-1; §6.3.2, Tables
@@ -48,7 +46,7 @@ def test_counter_letter_is_z_not_c():
 @pytest.mark.parametrize("length,words,pad", [(1, 1, 1), (11, 6, 1), (12, 6, 0), (1023, 512, 1), (1024, 512, 0)])
 def test_odd_send_length_to_a_db_is_padded(length, words, pad):
     # §6.3.2 "Important notes": an odd LEN is rounded up to whole words, one 00h appended
-    from ptpcert.model.rk512.requests import Request, request_header, send_payload
+    from ptpcert.procedures.rk512.model.requests import Request, request_header, send_payload
     req = Request("send", Area.DB, 10, 0, length, data=bytes([0xEE]) * length)
     h = request_header(req)
     assert h.length == words

@@ -4,18 +4,29 @@ its own requests (class 05), and the responder's checks of the commands (class 0
 REATEL it answers. The tester is a bare 3964R station that sends the frames a test crafts."""
 
 import pytest
+from rk512_helpers import (
+    codes,
+    delivered,
+    of,
+    pair,
+    params,
+    results,
+    run_until,
+    run_until_delivered,
+    served,
+    settle,
+    wire,
+    with_tester,
+)
+from rk512_rules import TABLE_8_3, UNKNOWN_REATEL, continuation, header, response
 
-from ptpcert.model import Params3964, Station3964
 from ptpcert.model.codes import Code
 from ptpcert.model.events import SendDone
 from ptpcert.model.link import DELIVER, DROP, Link
-from ptpcert.model.rk512 import Rk512Readings, Rk512Station
-from ptpcert.model.rk512.events import FrameSent
-
-from rk512_helpers import (codes, delivered, of, pair, params, results, run_until, run_until_delivered, served,
-                           settle, wire, with_tester)
-from rk512_rules import TABLE_8_3, UNKNOWN_REATEL, continuation, header, response
-
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.p3964.model.station import Station3964
+from ptpcert.procedures.rk512.model import Rk512Readings, Rk512Station
+from ptpcert.procedures.rk512.model.events import FrameSent
 
 # == class 09: the REATEL of the partner's response (Table 8-3) ===================================
 REATELS = sorted(TABLE_8_3) + [0x01, 0x0B, 0x42, 0xFE, 0xFF]

@@ -3,15 +3,13 @@ SEND and FETCH of every size class and data type, DLE doubling, quasi-full-duple
 response monitoring time on both sides (§2.2.3, Figs. 2-13 to 2-19; §6.3.2)."""
 
 import pytest
+from rk512_helpers import codes, delivered, of, pair, results, run_until, run_until_delivered, served, wire, with_tester
+from rk512_rules import DLE, STX, body, continuation, exchange, header, hexb, response
 
 from ptpcert.model.codes import Code
-from ptpcert.model.rk512 import Rk512Readings, describe
-from ptpcert.model.rk512.codec import Area
-from ptpcert.model.rk512.events import FrameReceived, FrameSent
-
-from rk512_helpers import (codes, delivered, of, pair, results, run_until, run_until_delivered, served, wire,
-                           with_tester)
-from rk512_rules import DLE, STX, body, continuation, exchange, header, hexb, response
+from ptpcert.procedures.rk512.model import Rk512Readings, describe
+from ptpcert.procedures.rk512.model.codec import Area
+from ptpcert.procedures.rk512.model.events import FrameReceived, FrameSent
 
 
 # -- Examples 1 to 4 (3964R, A high priority, no flag, CPU 1) ------------------------------------
@@ -471,9 +469,10 @@ def test_example_6_on_the_wire(spec, block):
 
 # -- why the station sent what it sent (explain) -------------------------------------------------
 def test_explain_log():
-    from ptpcert.model.rk512 import Rk512Station
-    from ptpcert.model.link import Link
     from rk512_helpers import params, settle
+
+    from ptpcert.model.link import Link
+    from ptpcert.procedures.rk512.model import Rk512Station
     a = Rk512Station(params("high"), name="a", explain=True)
     b = Rk512Station(params("low"), name="b", explain=True)
     link = settle(Link(a, b))

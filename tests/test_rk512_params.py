@@ -3,14 +3,22 @@
 
 import pytest
 
-from ptpcert.model import Params3964
 from ptpcert.model.codes import Code
-from ptpcert.model.params import ParameterError
-from ptpcert.model.rk512 import Memory, Rk512Params, default_response_time_ms
-from ptpcert.model.rk512.codec import Area
-from ptpcert.model.rk512.readings import RK512_READINGS, Rk512Readings
-from ptpcert.model.rk512.requests import (Request, ScriptError, Wait, default_data, local_check,
-                                          parse_line, parse_request, parse_script)
+from ptpcert.model.errors import ParameterError
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.rk512.model import Memory, Rk512Params, default_response_time_ms
+from ptpcert.procedures.rk512.model.codec import Area
+from ptpcert.procedures.rk512.model.readings import RK512_READINGS, Rk512Readings
+from ptpcert.procedures.rk512.model.requests import (
+    Request,
+    ScriptError,
+    Wait,
+    default_data,
+    local_check,
+    parse_line,
+    parse_request,
+    parse_script,
+)
 
 
 # -- parameters ----------------------------------------------------------------------------

@@ -7,11 +7,10 @@ unanswered, and moves no data for a frame it refused."""
 import random
 
 import pytest
-
-from ptpcert.model.rk512.events import FrameNotSent, FrameReceived, FrameSent, RequestResult, Served
-
 from rk512_helpers import delivered, of, with_tester
 from rk512_rules import continuation, header, response
+
+from ptpcert.procedures.rk512.model.events import FrameNotSent, FrameReceived, FrameSent, RequestResult, Served
 
 VALID = [
     header("A", "D", 10, 0, 2) + bytes(4),
@@ -80,9 +79,9 @@ def test_random_partner(seed):
 
 
 # -- two model stations, requests on both sides, a clean or a noisy line ----------------------------
-from ptpcert.model.link import CORRUPT, DELIVER, DROP, DUPLICATE  # noqa: E402
-
 from rk512_helpers import codes, pair  # noqa: E402
+
+from ptpcert.model.link import CORRUPT, DELIVER, DROP, DUPLICATE  # noqa: E402
 
 BOTH = ["send DB20:DW0:LEN=300", "fetch E:0:LEN=6", "fetch T:0:LEN=140", "send DX3:DW1:LEN=3",
         "send DB5:DW0:LEN=1", "fetch DB9:DW100:LEN=130", "send DB0:DW0:LEN=2", "fetch Z:0:LEN=1024"]

@@ -5,13 +5,12 @@ step with the fields."""
 import dataclasses
 
 import pytest
+from rk512_rules import continuation, header, response
 
 from ptpcert.model.codes import Code
-from ptpcert.model.rk512 import Rk512Core, Rk512Params, Rk512Readings
-from ptpcert.model.rk512.readings import RK512_READINGS
-from ptpcert.model.rk512.requests import parse_line, request_header
-
-from rk512_rules import continuation, header, response
+from ptpcert.procedures.rk512.model import Rk512Core, Rk512Params, Rk512Readings
+from ptpcert.procedures.rk512.model.readings import RK512_READINGS
+from ptpcert.procedures.rk512.model.requests import parse_line, request_header
 
 
 class Core(Rk512Core):
@@ -316,7 +315,7 @@ def test_n4():
 @reading("n5_len_over_1024_status")
 @reading("n6_db0_status")
 def test_n5_n6_are_tested_with_the_local_checks():
-    from ptpcert.model.rk512.requests import local_check
+    from ptpcert.procedures.rk512.model.requests import local_check
     assert local_check(parse_line("send DB1:DW0:LEN=2000"), R(n5_len_over_1024_status=Code.LEN_ILLEGAL)) == Code.LEN_ILLEGAL
     assert local_check(parse_line("send DB0:DW0:LEN=2"), R(n6_db0_status=Code.INVALID_FB_PARAMETERS)) == Code.INVALID_FB_PARAMETERS
 

@@ -7,18 +7,17 @@ import json
 import subprocess
 
 import pytest
+from rk512_profiles import PY, ROOT, iut_command, rk_profile, rk_profile_dict, write_profile
 
 import ptpcert.conformance as conformance
 from ptpcert import results as R
 from ptpcert.procedures import by_id
-from ptpcert.procedures.rk512 import GROUPS
+from ptpcert.procedures.rk512.description import GROUPS
 from ptpcert.profile import profile_from_dict
-from ptpcert.runner import RunOptions, Runner
+from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
 from ptpcert.transport import make_factory
-
-from rk512_profiles import PY, ROOT, iut_command, rk_profile, rk_profile_dict, write_profile
 
 RK = by_id("rk512")
 MUTANTS = RK.mutants()
@@ -181,9 +180,10 @@ flag_set = "--cf-set {flag}@{reset_ms}"
 
 
 def test_the_bundled_rk512_profile_is_read_and_runs_the_whole_suite_in_sim():
+    import tomllib
+
     from ptpcert.paths import bundled_profiles
     from ptpcert.profile import profile_from_dict
-    import tomllib
     raw = tomllib.loads(bundled_profiles().joinpath("rk512-reference.toml").read_text("utf-8"))
     prof = profile_from_dict(raw)
     assert prof.procedure is RK and prof.params.t_res == 1.0 and set(prof.setups) == {"cpu_stop", "flag_set"}

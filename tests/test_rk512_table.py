@@ -7,12 +7,12 @@ run the row's action, end in a state the row allows and raise the row's STATUS. 
 impossible must be refused with ModelError."""
 
 import pytest
-
-from ptpcert.model.station import ModelError
-from ptpcert.model.rk512 import Rk512Core, Rk512Params, Rk512Readings, table as T
-from ptpcert.model.events import Status
-
 from rk512_rules import continuation, header, response
+
+from ptpcert.model.errors import ModelError
+from ptpcert.model.events import Status
+from ptpcert.procedures.rk512.model import Rk512Core, Rk512Params, Rk512Readings
+from ptpcert.procedures.rk512.model import table as T
 
 A, P = T.AState, T.PState
 AI, PI = T.AInput, T.PInput

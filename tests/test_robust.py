@@ -298,7 +298,8 @@ def test_an_iut_that_dies_at_start_up_still_gets_reports(tmp_path):
 def test_a_signal_while_the_reports_are_written_is_only_counted(tmp_path, monkeypatch):
     """In process, deterministic: the HTML writer is hit by SIGINT and SIGTERM; the reports
     are still all written, and the run exits 2."""
-    from ptpcert import cli_run, html
+    from ptpcert.cli import run as cli_run
+    from ptpcert.report import html
 
     real = html.write_html
     hits = []
@@ -329,7 +330,7 @@ def test_a_10_mb_flood_over_the_whole_suite_gives_small_reports_quickly(tmp_path
         from bench_reports import flood_run
     finally:
         sys.path.pop(0)
-    from ptpcert.cli_run import write_reports
+    from ptpcert.cli.run import write_reports
 
     result = flood_run(10_000_000, None)
     ran = [c for c in result.cases if c.verdict != R.UNSUPPORTED]
@@ -404,7 +405,7 @@ def test_no_iut_process_is_left_behind(tmp_path, command):
 def test_the_fuzzer_stops_each_iut_when_its_example_is_judged():
     from ptpcert.fuzz import Campaign
     from ptpcert.profile import reference_profile
-    from ptpcert.runner import RunOptions, Runner
+    from ptpcert.runner import Runner, RunOptions
     from ptpcert.transport import ProcessFactory
     from ptpcert.transport.process import ExecTransport
 
@@ -451,7 +452,7 @@ def test_the_fuzzer_stops_each_iut_when_its_example_is_judged():
 def test_a_fault_of_ptpcert_during_the_run_still_gives_every_report(tmp_path, monkeypatch):
     """A bug in the harness outside a case (here: the runner's loop itself raises) costs
     neither the reports nor a traceback: the cases not reached are errors naming the fault."""
-    from ptpcert import cli_run
+    from ptpcert.cli import run as cli_run
     from ptpcert.runner import Runner
 
     def broken(self, vectors, result, progress=None, max_failures=0):

@@ -12,8 +12,8 @@ from pathlib import Path
 import pytest
 
 from ptpcert import results as R
-from ptpcert.html import render
 from ptpcert.report import summary
+from ptpcert.report.html import render
 
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable

@@ -12,10 +12,10 @@ import pytest
 
 import ptpcert.conformance as conformance
 from ptpcert import results as R
-from ptpcert.mutants import MUTANTS
+from ptpcert.procedures.p3964.description import GROUPS
+from ptpcert.procedures.p3964.mutants import MUTANTS
 from ptpcert.profile import reference_profile
-from ptpcert.runner import RunOptions, Runner
-from ptpcert.procedures.p3964 import GROUPS
+from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
 from ptpcert.transport import make_factory

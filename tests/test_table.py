@@ -6,8 +6,11 @@ state the row allows. Rows marked impossible must be refused with ModelError."""
 
 import pytest
 
-from ptpcert.model import ModelError, Params3964, Station3964, table as T
-from ptpcert.model.codec import DLE, ETX, NAK, STX
+from ptpcert.model.errors import ModelError
+from ptpcert.procedures.p3964.model import table as T
+from ptpcert.procedures.p3964.model.codec import DLE, ETX, NAK, STX
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.p3964.model.station import Station3964
 
 P = Params3964(cdt_ms=20, adt_ms=20)
 CHAR = {T.STX: STX, T.DLE: DLE, T.ETX: ETX, T.NAK: NAK, T.OTHER: 0x41}
@@ -142,11 +145,14 @@ import xml.etree.ElementTree as ET
 from contextlib import redirect_stdout
 from pathlib import Path
 
-from ptpcert import statechart
+import ptpcert
 from ptpcert.cli import main as cli_main
-from ptpcert.model import READINGS, Readings, station as station_module
 from ptpcert.model.codes import Code
 from ptpcert.model.events import Status
+from ptpcert.procedures.p3964 import chart as statechart
+from ptpcert.procedures.p3964 import mutants as p3964_mutants
+from ptpcert.procedures.p3964.model import station as station_module
+from ptpcert.procedures.p3964.model.readings import READINGS, Readings
 
 P1 = Params3964(cdt_ms=20, adt_ms=20, setup_attempts=1, transmission_attempts=1)
 ELEMENTS = [r for _, _, r in T.rows()] + [b for _, b in T.branches()]
@@ -306,14 +312,19 @@ def test_the_station_and_the_mutants_keep_to_the_public_surface():
     protected hooks (methods) and patch table rows, and touch no private field either."""
     s = Station3964(P, name="s")
     private = {k for k in vars(s) if k.startswith("_")}
-    root = Path(inspect.getfile(station_module)).parent.parent
-    for rel in ("fuzz.py", "runner.py", "mutants.py", "model/link.py", "model/app.py"):
-        tree = ast.parse((root / rel).read_text("utf-8"))
+    station_file = Path(inspect.getfile(station_module))
+    root = Path(inspect.getfile(ptpcert)).parent
+    mutants_file = Path(inspect.getfile(p3964_mutants))
+    for path in sorted(root.rglob("*.py")):
+        if path == station_file:
+            continue
+        rel = path.relative_to(root).as_posix()
+        tree = ast.parse(path.read_text("utf-8"))
         for n in ast.walk(tree):
             if isinstance(n, ast.Attribute) and n.attr in private:
-                own = isinstance(n.value, ast.Name) and n.value.id == "self" and rel != "mutants.py"
+                own = isinstance(n.value, ast.Name) and n.value.id == "self" and path != mutants_file
                 assert own, f"{rel}:{n.lineno} reads {n.attr}"
-    mutants_src = ast.parse((root / "mutants.py").read_text("utf-8"))
+    mutants_src = ast.parse(mutants_file.read_text("utf-8"))
     for n in ast.walk(mutants_src):
         if isinstance(n, ast.Attribute) and isinstance(n.value, ast.Name) and n.value.id == "self" \
                 and n.attr.startswith("_"):

@@ -9,12 +9,12 @@ from pathlib import Path
 
 import pytest
 
-from ptpcert.cli_rules import matrices
+from ptpcert.cli.rules import matrices
 from ptpcert.procedures import by_id
+from ptpcert.procedures.p3964.model.params import Params3964
 from ptpcert.rules import Rule
-from ptpcert.scenario import Expected, Step, StatusSpec, Vector, load_vector_sets
-from ptpcert.traceability import CHECKED, MISSING, UNTESTABLE, Setting, build, render_text
-from ptpcert.model import Params3964
+from ptpcert.rules.traceability import CHECKED, MISSING, UNTESTABLE, Setting, build, render_text
+from ptpcert.scenario import Expected, StatusSpec, Step, Vector, load_vector_sets
 
 ROOT = Path(__file__).resolve().parent.parent
 PROC = by_id("3964r")

@@ -5,7 +5,7 @@ buffer and line conditions. Each module is one group; each case cites its rule."
 
 from __future__ import annotations
 
-from ptpcert.model.ascii import AsciiParams
+from ptpcert.procedures.ascii.model import AsciiParams
 from ptpcert.scenario import Vector
 
 from . import buffer, cdt, end_chars, fixed_length, flow, line, send

@@ -3,9 +3,9 @@ profile's control codes, what an echo IUT sends back, and the case itself."""
 
 from __future__ import annotations
 
-from ptpcert.model.ascii import AsciiParams
-from ptpcert.model.codec import parse_hex
-from ptpcert.procedures.ascii import MODEM_LINES, echo_frames
+from ptpcert.model.hexbytes import parse_hex
+from ptpcert.procedures.ascii.description import MODEM_LINES, echo_frames
+from ptpcert.procedures.ascii.model import AsciiParams
 from ptpcert.scenario import Expected, Expr, StatusSpec, Step, Vector
 from ptpcert.status import lookup
 
@@ -185,7 +185,7 @@ def echo_steps(p: AsciiParams, frames, first: str = SLOW, late_last: bool = Fals
     first within ``first``, each further one soon after the one before (the frames waited in
     the buffer); ``late_last``: the last frame entered the buffer late (it may be read only
     a slow reader's delay after the others)."""
-    from ptpcert.model.ascii import send_bytes
+    from ptpcert.procedures.ascii.model import send_bytes
 
     out = []
     for i, f in enumerate(frames):

@@ -4,7 +4,7 @@ count and the 1024 bytes; overwrite prevented or allowed. The IUT's application 
 
 from __future__ import annotations
 
-from ptpcert.model.ascii.params import BUFFER_BYTES
+from ptpcert.procedures.ascii.model.params import BUFFER_BYTES
 
 from ._build import FILL_TIME, OVER, RX_ERRORS, SLOW_SETUP, case, echo_steps, frame_of, no_flow, send, sending_time
 

@@ -5,10 +5,23 @@ from __future__ import annotations
 
 import math
 
-from ptpcert.model.ascii import send_bytes
+from ptpcert.procedures.ascii.model import send_bytes
 
-from ._build import (GAP, IDLE, OVER, RX_ERRORS, UNDER, data, echoes, expect, quiet_flow, receive_case, send,
-                     send_error, with_echo)
+from ._build import (
+    GAP,
+    IDLE,
+    OVER,
+    RX_ERRORS,
+    UNDER,
+    data,
+    echoes,
+    expect,
+    quiet_flow,
+    receive_case,
+    send,
+    send_error,
+    with_echo,
+)
 
 REF = "§2.2.4 'end character(s)'; Fig. 2-22"
 MAL = REF + " (malformed frames)"

@@ -7,11 +7,28 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from ptpcert.model.ascii import send_bytes
-from ptpcert.model.ascii.params import BUFFER_BYTES, XOFF_MARGIN
+from ptpcert.procedures.ascii.model import send_bytes
+from ptpcert.procedures.ascii.model.params import BUFFER_BYTES, XOFF_MARGIN
 
-from ._build import (FILL_TIME, IDLE, OVER, RX_ERRORS, SLOW, SLOW_SETUP, case, expect, frame_of, hold,
-                     modem_case, quiet_flow, receive_case, send, sending_time, silence, echo_steps)
+from ._build import (
+    FILL_TIME,
+    IDLE,
+    OVER,
+    RX_ERRORS,
+    SLOW,
+    SLOW_SETUP,
+    case,
+    echo_steps,
+    expect,
+    frame_of,
+    hold,
+    modem_case,
+    quiet_flow,
+    receive_case,
+    send,
+    sending_time,
+    silence,
+)
 
 REF = "§2.2.4 'data flow control / handshaking'; Table 2-9"
 #: the fill level at which XOFF is due: 50 characters before the 1024-byte buffer overflows

@@ -4,7 +4,7 @@ of the end criteria."""
 
 from __future__ import annotations
 
-from ptpcert.model.ascii import send_bytes
+from ptpcert.procedures.ascii.model import send_bytes
 
 from ._build import IDLE, RX_ERRORS, brk, data, echoes, expect, frame_of, quiet_flow, receive_case, send, silence
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 
-from ptpcert.model.ascii import send_bytes
+from ptpcert.procedures.ascii.model import send_bytes
 
 from ._build import case, data, echoes, expect, frame_of, h, no_flow, quiet_flow, receive_case, send, silence
 

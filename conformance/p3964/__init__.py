@@ -5,7 +5,7 @@ catalogue, ``ptpcert rules``). The golden vectors run with them."""
 
 from __future__ import annotations
 
-from ptpcert.model import Params3964
+from ptpcert.procedures.p3964.model.params import Params3964
 from ptpcert.scenario import Vector
 
 from . import conflict, counters, frame, idle, line, receive, release, send, startup, timing

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
-from ptpcert.model import Params3964, codec
-from ptpcert.scenario import Expected, Expr, Step, StatusSpec, Vector
+from ptpcert.model.hexbytes import parse_hex
+from ptpcert.procedures.p3964.model import codec
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.scenario import Expected, Expr, StatusSpec, Step, Vector
 from ptpcert.status import lookup
 
 STX, DLE, ETX, NAK = b"\x02", b"\x10", b"\x03", b"\x15"
@@ -19,7 +21,7 @@ PLAIN = b"\x31\x32\x33"
 
 
 def h(data) -> bytes:
-    return codec.parse_hex(data) if isinstance(data, str) else bytes(data)
+    return parse_hex(data) if isinstance(data, str) else bytes(data)
 
 
 def send(data, at: str = "0", gap: str = "0", note: str = "", mark: bool = False) -> Step:

@@ -1,10 +1,29 @@
 """The IUT as receiver (§2.2.2 Receive; Figs. 2-6, 2-7, 2-11, 2-12; Tables 2-3, 8-1)."""
 
 
-from ptpcert.model import Params3964
+from ptpcert.procedures.p3964.model.params import Params3964
 
-from ._build import (DLE, NAK, PLAIN, STX, bcc_of, body, case, expect, h, maybe, nak_after_cdt, partner,
-                     plain_1024, receive_block, send, send_error, settle, seven_bit, wait)
+from ._build import (
+    DLE,
+    NAK,
+    PLAIN,
+    STX,
+    bcc_of,
+    body,
+    case,
+    expect,
+    h,
+    maybe,
+    nak_after_cdt,
+    partner,
+    plain_1024,
+    receive_block,
+    send,
+    send_error,
+    settle,
+    seven_bit,
+    wait,
+)
 
 REPEAT_OPTIONAL = ["16#0801", "16#0815"]
 NO_BUFFER = ("no_buffer", {})

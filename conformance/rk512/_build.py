@@ -6,8 +6,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ptpcert.model.rk512 import Rk512Params
-from ptpcert.scenario import Expected, Expr, Step, StatusSpec, Vector
+from ptpcert.procedures.rk512.model import Rk512Params
+from ptpcert.scenario import Expected, Expr, StatusSpec, Step, Vector
 from ptpcert.status import lookup
 
 STX, DLE, ETX, NAK = 0x02, 0x10, 0x03, 0x15

@@ -3,10 +3,28 @@
 classes 05, 09, 0A; §8.4 Table 8-3): A-01 to A-12, in three groups - the commands it
 sends, how it takes the responses, and its response monitoring time."""
 
-from ptpcert.model import codec as link
+from ptpcert.procedures.p3964.model import codec as link
 
-from ._build import (DLE, NAK, STX, case, chunks, cont, expect, failed, fetched, header, label, ok, prime,
-                     receive, resp, send, send_frames, silence)
+from ._build import (
+    DLE,
+    NAK,
+    STX,
+    case,
+    chunks,
+    cont,
+    expect,
+    failed,
+    fetched,
+    header,
+    label,
+    ok,
+    prime,
+    receive,
+    resp,
+    send,
+    send_frames,
+    silence,
+)
 
 #: Table 8-3: REATEL -> the event the requester raises
 TABLE_8_3 = {0x0A: "16#0905", 0x0C: "16#0902", 0x10: "16#090B", 0x12: "16#0904", 0x14: "16#0903",

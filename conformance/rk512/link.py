@@ -1,10 +1,25 @@
 """The link below RK 512 (§2.2.2 as §2.2.3 uses it: every RK 512 frame is the user data of
 one 3964(R) block): L-01 to L-07 over RK 512 frames."""
 
-from ptpcert.model import codec as link
+from ptpcert.procedures.p3964.model import codec as link
 
-from ._build import (DLE, NAK, STX, case, cont, expect, header, iut_request, prime, receive, resp, send,
-                     silence, tester_fetch, tester_send)
+from ._build import (
+    DLE,
+    NAK,
+    STX,
+    case,
+    cont,
+    expect,
+    header,
+    iut_request,
+    prime,
+    receive,
+    resp,
+    send,
+    silence,
+    tester_fetch,
+    tester_send,
+)
 
 OPT_REPEAT = ["16#0801", "16#0815"]
 

@@ -4,10 +4,9 @@ P-16 (its own request while it serves one)."""
 
 import math
 
-from ptpcert.model import codec as link
+from ptpcert.procedures.p3964.model import codec as link
 
-from ._build import (DLE, STX, case, cont, expect, header, label, ok, prime, receive, resp, send, seq_data,
-                     silence)
+from ._build import DLE, STX, case, cont, expect, header, label, ok, prime, receive, resp, send, seq_data, silence
 
 
 def cases(c):

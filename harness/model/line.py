@@ -6,6 +6,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+#: the CP 341's transmission rates in bit/s (Table 2-5), for every procedure
+BAUD_RATES = (300, 600, 1200, 2400, 4800, 9600, 19200, 38400, 57600, 76800)
 PARITIES = ("none", "odd", "even")
 
 

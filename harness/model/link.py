@@ -7,7 +7,7 @@ clock, no I/O; used by tests, the fuzzer, benchmarks and the ``sim:`` transport.
 
 Any station with the driver interface can sit at either end (a 3964(R) station, an ASCII
 driver). ``host_factory(station, app)`` builds the application above each one (default: the
-3964(R) :class:`~ptpcert.model.app.Host`). A station that drives modem outputs
+echo application :class:`~ptpcert.model.app.Host`). A station that drives modem outputs
 (``pop_signals``) is wired to the other as a null-modem cable: its RTS is the other's CTS,
 its DTR the other's DSR.
 """
@@ -22,7 +22,8 @@ from math import inf
 from operator import add, mul
 from typing import Any, Callable, Iterator, NamedTuple
 
-from .app import Host
+from ptpcert.model.app import Host
+
 from .events import Event
 
 #: what a null-modem cable connects: an output of one station to an input of the other
@@ -86,7 +87,7 @@ class Link:
     #: the application of a station by name (an object with ``drain(now)``, e.g. an RK 512
     #: host); a station not named here gets host_factory(station, "echo" or "none")
     hosts: dict[str, object] = field(default_factory=dict)
-    #: builds the application of a station not named in ``hosts`` (default: 3964's Host)
+    #: builds the application of a station not named in ``hosts`` (default: the echo application, :class:`~ptpcert.model.app.Host`)
     host_factory: Callable[[Any, str], Any] = _default_host
 
     def __post_init__(self) -> None:

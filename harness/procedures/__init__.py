@@ -3,10 +3,11 @@ Adding one adds a module here and a line to :data:`PROCEDURES`; no runner code c
 
 from __future__ import annotations
 
+from ptpcert.procedures.ascii.description import PAscii
+from ptpcert.procedures.p3964.description import P3964
+from ptpcert.procedures.rk512.description import Rk512
+
 from ..procedure import Procedure, ProcedureError
-from .ascii import PAscii
-from .p3964 import P3964
-from .rk512 import Rk512
 
 PROCEDURES: tuple[Procedure, ...] = (P3964(), Rk512(), PAscii())
 

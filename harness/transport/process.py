@@ -26,8 +26,7 @@ import tty
 import weakref
 
 from .. import priority
-from .base import (BREAK, CHAR_ERROR, RESTART, STATUS, CloseInfo, IUTDied, StatusParser,
-                   Transport, TransportError)
+from .base import BREAK, CHAR_ERROR, RESTART, STATUS, CloseInfo, IUTDied, StatusParser, Transport, TransportError
 
 _LIVE: "weakref.WeakSet[ProcessTransport]" = weakref.WeakSet()
 
@@ -409,7 +408,7 @@ class PtyTransport(ProcessTransport):
         """The character frame the IUT set on the pseudo-terminal, in the profile's terms
         (baud_rate, data_bits, parity, stop_bits), with only the fields this system's ptys
         keep (:mod:`ptpcert.line_frame`); for a case that compares it with the profile."""
-        from ..line_frame import pty_keeps, read_frame
+        from ptpcert.transport.line_frame import pty_keeps, read_frame
         try:
             frame = read_frame(self.slave)
         except (OSError, AttributeError):

@@ -12,8 +12,10 @@ import sys
 import time
 
 from ptpcert.iut import ParmrkDecoder
-from ptpcert.model import Host, Params3964, Station3964
+from ptpcert.model.app import Host
 from ptpcert.model.events import Status
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.p3964.model.station import Station3964
 
 ap = argparse.ArgumentParser()
 ap.add_argument("lag_ms", type=float)

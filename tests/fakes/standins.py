@@ -6,13 +6,16 @@ defects; they live with the tests and may use the station's internals."""
 
 from __future__ import annotations
 
-from ptpcert.model import Host, Params3964, Station3964
 from ptpcert.model import events as ev
-from ptpcert.model import table as T
-from ptpcert.model.codec import MAX_BLOCK
+from ptpcert.model.app import Host
+from ptpcert.model.codes import Code
+from ptpcert.procedures.p3964.model import table as T
+from ptpcert.procedures.p3964.model.codec import MAX_BLOCK
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.p3964.model.station import Station3964
+from ptpcert.procedures.p3964.mutants import _Counting  # counts the data bytes and doubled DLEs of the block received
 from ptpcert.transport import Factory
 from ptpcert.transport.sim import SimTransport
-from ptpcert.mutants import _Counting  # counts the data bytes and doubled DLEs of the block received
 
 
 def factory(station_class, *, app: str = "echo", host_class=Host, buffer_free: bool = True) -> Factory:
@@ -37,7 +40,7 @@ class CountsAfterDoubling(_Counting):
 
     def _d_evaluate(self):
         if getattr(self, "count", 0) + getattr(self, "pairs", 0) > MAX_BLOCK:
-            self._note(ev.FRAME_TOO_LONG)
+            self._note(Code.FRAME_TOO_LONG)
         return super()._d_evaluate()
 
 
@@ -45,7 +48,7 @@ class AcceptsOverlong(Station3964):
     """A17: an agreed length above 1024: a 1025-byte block is accepted (non-strict)."""
 
     def _note(self, code):
-        if code != ev.FRAME_TOO_LONG:
+        if code != Code.FRAME_TOO_LONG:
             super()._note(code)
 
 
@@ -61,7 +64,7 @@ class SmallBuffer(_Counting):
         if len(run) <= room or self.state is not T.RECEIVE:
             return super()._store_run(run)
         super()._store_run(run[:room + 1])
-        self._note(ev.FRAME_TOO_LONG)
+        self._note(Code.FRAME_TOO_LONG)
         self._input(T.T_CDT)              # refuse now, as when the block ends
         if len(run) > room + 1:
             self.receive(self.now, run[room + 1:])

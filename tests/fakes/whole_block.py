@@ -23,8 +23,10 @@ import time
 
 from ptpcert.driver import drive_station
 from ptpcert.iut import StdioEndpoint
-from ptpcert.model import Host, Params3964, Station3964
+from ptpcert.model.app import Host
 from ptpcert.model.events import Status
+from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.procedures.p3964.model.station import Station3964
 
 
 class OneWrite(StdioEndpoint):

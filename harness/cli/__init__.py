@@ -1,0 +1,250 @@
+"""The ``ptpcert`` command line."""
+
+from __future__ import annotations
+
+import argparse
+import fnmatch
+import math
+import os
+import sys
+
+from ptpcert import __version__
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with a usage error on ONE line naming the option and what is allowed (exit
+    2), instead of the usage block and a second line."""
+
+    def error(self, message: str):  # type: ignore[override]
+        self.exit(2, f"{self.prog}: {message}; see {self.prog} --help\n")
+
+
+def number(kind: type, lo: float, hi: float | None, unit: str = ""):
+    """An argparse type: a finite ``kind`` (int or float) in [lo, hi] (hi None: no upper
+    bound); the error names the range."""
+    span = f"from {lo:g} to {hi:g}" if hi is not None else f"{lo:g} or more"
+    allowed = f"allowed: {'an integer' if kind is int else 'a number'} {span}" + (f" {unit}" if unit else "")
+
+    def parse(text: str):
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number ({allowed})") from None
+        if not math.isfinite(value) or value < lo or (hi is not None and value > hi):
+            raise argparse.ArgumentTypeError(f"{text!r} is out of range ({allowed})")
+        return value
+    parse.__name__ = kind.__name__   # argparse names the type in its own messages
+    return parse
+
+
+def _vectors(args) -> int:
+    from ptpcert.check import check_vector
+    from ptpcert.cli.run import vector_set_label
+    from ptpcert.scenario import VectorError, load_vector_sets
+
+    extra, only = list(args.vectors), args.vectors_only
+    if args.dir:
+        extra, only = extra + [args.dir], True
+    try:
+        vectors = load_vector_sets(extra, only=only)
+    except VectorError as exc:
+        print(f"ptpcert vectors: {exc}", file=sys.stderr)
+        return 2
+    root = vector_set_label(extra, only)
+    if args.select:
+        vectors = [v for v in vectors if any(fnmatch.fnmatchcase(v.id, g) for g in args.select)]
+        if not vectors:
+            print("ptpcert vectors: no vector matches --select " + " ".join(args.select)
+                  + f" (in {root}; 'ptpcert vectors' lists the ids)", file=sys.stderr)
+            return 2
+    if not args.check:
+        w = max((len(v.id) for v in vectors), default=10)
+        for v in vectors:
+            print(f"{v.id:<{w}}  {v.group:<15} {v.iut_role:<8}  {v.reference}")
+            if args.verbose:
+                print(f"{'':<{w}}  {v.title}\n{'':<{w}}  rule: {v.rule}\n")
+        print(f"{len(vectors)} vectors in {root}")
+        return 0
+    passed = failed = 0
+    for v in vectors:
+        outcomes = check_vector(v)
+        bad = [o for o in outcomes if not o.ok]
+        if bad:
+            failed += 1
+            for o in bad:
+                print(f"FAIL {v.id} [app={o.app}] {o.result.verdict}: {o.result.message}")
+                if o.result.divergence and args.verbose:
+                    d = o.result.divergence
+                    print(f"     step {d.step + 1} at {d.time * 1000:.3f} ms: expected {d.expected}; {d.observed}")
+        else:
+            passed += 1
+            if args.verbose:
+                grades = {o.result.verdict for o in outcomes}
+                print(f"ok   {v.id} ({', '.join(sorted(grades))})")
+    print(f"{len(vectors)} vectors, {passed} passed, {failed} failed")
+    return 1 if failed else 0
+
+
+def _reatel_value(text: str) -> int:
+    """``34``, ``34h``, ``0x34`` or ``16#34`` -> 0x34 (an RK 512 error number is a byte)."""
+    t = text.strip().lower().removeprefix("16#").removeprefix("0x").removesuffix("h")
+    value = int(t, 16)
+    if not 0 <= value <= 0xFF:
+        raise ValueError(text)
+    return value
+
+
+def _reatel_text(reatel: int) -> str:
+    """REATEL -> STATUS both ways (Table 8-3): the requester's event, the responder's."""
+    from ptpcert.procedures.rk512.model.codec import STATUS_REATEL, status_for_reatel
+    from ptpcert.status import short
+
+    if reatel == 0:
+        return "REATEL 00h: no error (the request is done; the requester reports no event)"
+    code = status_for_reatel(reatel)
+    listed = code != 0x090E
+    lines = [f"REATEL {reatel:02X}h" + ("" if listed else " (not in Table 8-3)"),
+             f"  the requester reports 16#{code:04X}  {short(code)}"]
+    senders = sorted(c for c, r in STATUS_REATEL.items() if r == reatel)
+    if senders:
+        lines.append("  the responder sends it for " + ", ".join(f"16#{c:04X} ({short(c)})" for c in senders))
+    elif listed:
+        lines.append("  no responder event of Table 8-1 sends it (S5 partners do)")
+    lines.append("  source     §8.4 Table 8-3")
+    return "\n".join(lines)
+
+
+def _reatel_of(code: int) -> str | None:
+    """The REATEL line for an RK 512 class-06 or class-09 event (Table 8-3), or None."""
+    from ptpcert.procedures.rk512.model.codec import STATUS_REATEL, reatels_for_status
+
+    if code >> 8 == 0x06:
+        r = STATUS_REATEL.get(code)
+        return (f"  REATEL     the responder answers with {r:02X}h (Table 8-3)" if r is not None
+                else "  REATEL     none listed in Table 8-3 (an open point of the manual)")
+    if code >> 8 == 0x09:
+        rs = reatels_for_status(code)
+        return ("  REATEL     raised by " + ", ".join(f"{r:02X}h" for r in rs) + " in the partner's response (Table 8-3)"
+                if rs else "  REATEL     any error number Table 8-3 does not list")
+    return None
+
+
+def _status(args) -> int:
+    from ptpcert.status import UnknownStatus, catalogue, lookup
+
+    if args.reatel:
+        status = 0
+        for text in args.reatel:
+            try:
+                print(_reatel_text(_reatel_value(text)))
+            except ValueError:
+                print(f"ptpcert status: --reatel {text!r}: an error number 00..FF in hex (e.g. 34, 34h, 0x34)",
+                      file=sys.stderr)
+                status = 2
+        return status
+    if args.list:
+        for code, e in sorted(catalogue().items()):
+            print(f"{e.notation}  {e.event_class}  {e.side:<8} {', '.join(e.protocols):<24} {e.short}")
+        print(f"{len(catalogue())} events (Tables 8-1, 8-2)")
+        return 0
+    if not args.code:
+        print("ptpcert status: give a code (e.g. 16#0808), --reatel 34 or --list", file=sys.stderr)
+        return 2
+    status = 0
+    for code in args.code:
+        try:
+            e = lookup(code)
+            print(e.describe())
+            more = _reatel_of(e.code) if "RK 512" in e.protocols else None
+            if more:
+                print(more)
+        except UnknownStatus as exc:
+            print(f"ptpcert status: {exc}", file=sys.stderr)
+            status = 2
+    return status
+
+
+def _model(args) -> int:
+    from ptpcert.procedures.p3964 import chart as statechart
+
+    if args.svg:
+        with open(args.svg, "w", encoding="utf-8") as f:
+            f.write(statechart.svg())
+        print(f"ptpcert: state machine drawn into {args.svg}")
+    else:
+        sys.stdout.write(statechart.table_text())
+    return 0
+
+
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The whole command line; with ``command="iut"`` the commands whose modules the
+    reference IUT's start-up need not load (capture, analyze, monitor, rules) are left out:
+    an exec: IUT is started for every case, so its start-up is part of every case's time."""
+    ap = Parser(
+        prog="ptpcert",
+        description="Conformance test suite and fuzzer for the CP 340/341/441 point-to-point "
+                    "procedures 3964 / 3964R and the RK 512 computer link.")
+    ap.add_argument("--version", action="version", version=f"ptpcert {__version__}")
+    sub = ap.add_subparsers(dest="command", metavar="COMMAND")
+
+    v = sub.add_parser("vectors", help="list the golden vectors, or check them against the model")
+    v.add_argument("--check", action="store_true", help="replay every vector against the reference model")
+    v.add_argument("--vectors", action="append", default=[], metavar="DIR",
+                   help="a directory of vectors in addition to the bundled golden vectors (repeatable)")
+    v.add_argument("--vectors-only", action="store_true",
+                   help="only the vectors of --vectors, not the bundled ones")
+    v.add_argument("--dir", help="only the vectors of this directory (--vectors DIR --vectors-only)")
+    v.add_argument("--select", action="append", metavar="GLOB", help="only vectors whose id matches")
+    v.add_argument("-v", "--verbose", action="store_true")
+    v.set_defaults(func=_vectors)
+
+    s = sub.add_parser("status", help="explain a STATUS event code (e.g. 16#0808)")
+    s.add_argument("code", nargs="*", help="16#0808, 0x0808 or 0808")
+    s.add_argument("--list", action="store_true", help="list all 80 events")
+    s.add_argument("--reatel", action="append", metavar="HEX",
+                   help="RK 512: explain an error number of a response frame (e.g. 34): the event the requester "
+                        "reports and the responder's events that send it (Table 8-3); repeatable")
+    s.set_defaults(func=_status)
+
+    m = sub.add_parser("model", help="the 3964/3964R transition table, as text or drawn (--svg)")
+    m.add_argument("--svg", metavar="FILE", help="draw the state machine into FILE (a self-contained SVG)")
+    m.set_defaults(func=_model)
+
+    from ptpcert.cli import run as cli_run
+    cli_run.add_commands(sub)
+    if command == "iut":
+        return ap
+    from ptpcert.cli import capture as cli_capture
+    cli_capture.add_commands(sub)
+    from ptpcert.cli import analyze as cli_analyze
+    cli_analyze.add_commands(sub)
+    from ptpcert.cli import rules as cli_rules
+    cli_rules.add_commands(sub)
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    words = sys.argv[1:] if argv is None else argv
+    ap = build_parser("iut" if words[:1] == ["iut"] else None)
+    args = ap.parse_args(argv)
+    if not getattr(args, "func", None):
+        ap.print_help()
+        return 2
+    # the ptpcert program itself (argv from the command line) ends with the command; a
+    # caller that hands in argv goes on in the same process (see cli_run.Interrupts)
+    args.process_exits_after = argv is None
+    try:
+        return args.func(args)
+    except KeyboardInterrupt:
+        print("ptpcert: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        return 0
+    except Exception as exc:  # the last line of defence: one line, never a traceback
+        if os.environ.get("PTPCERT_DEBUG"):
+            raise
+        text = " ".join(str(exc).split())[:300]
+        print(f"ptpcert {args.command}: internal error: {type(exc).__name__}: {text} "
+              "(a fault of ptpcert; PTPCERT_DEBUG=1 shows where)", file=sys.stderr)
+        return 2
+

@@ -1,0 +1,346 @@
+"""The ``analyze`` and ``monitor`` commands: judge a recorded or live link between two
+stations (see :mod:`ptpcert.analyze`)."""
+
+from __future__ import annotations
+
+import re
+import sys
+import time
+from pathlib import Path
+
+from ptpcert import priority
+from ptpcert.priority import MODES as PRIORITY_MODES
+
+#: schemes of ``--iut`` URLs whose transport starts a fresh IUT for every case
+_RESTARTING = ("exec:", "pty:", "sim:")
+_RUN_NOTE = re.compile(r"^run of \d+ cases? against (\S.*)$")
+
+
+def add_commands(sub) -> None:
+    from ptpcert.capture import FORMATS
+
+    a = sub.add_parser(
+        "analyze", help="judge a recorded link between two stations (a capture) against the model",
+        description="Judge a recorded two-direction capture of both stations: each judged seat's station "
+                    "is followed by the model, fed what the other seat sent; every rule a station broke is "
+                    "reported with its manual reference and the STATUS events a CP 341 in each seat raises. "
+                    "Reports as for 'run'. Exit status: 0 nothing failed, 1 a station broke a rule, 2 bad "
+                    "usage or a capture that cannot be read.")
+    a.add_argument("capture", metavar="CAPTURE",
+                   help="capture JSON, results JSON (what 'run --json' writes), hex log or pcap")
+    _common(a)
+    a.add_argument("--from", dest="from_", choices=FORMATS, metavar="FMT", help="the capture's format")
+    a.add_argument("--case", metavar="ID", help="from a results object: this case only")
+    a.add_argument("--resolution-ms", type=float, default=None, metavar="MS",
+                   help="how much earlier than its timestamp a character may have been complete "
+                        "(default: 0, the timestamps are exact; for a results object of a run against a real "
+                        "process or port: one character time + 2 ms)")
+    a.add_argument("--restart-at-cases", choices=["auto", "a", "b", "both", "none"], default="auto",
+                   help="the seats whose station is switched on where a case of a run begins (default auto: "
+                        "seat b when the capture is a run against exec:, pty: or sim:)")
+    a.add_argument("-v", "--verbose", action="store_true", help="one line per exchange, not only those with findings")
+    a.set_defaults(func=cmd_analyze)
+
+    m = sub.add_parser(
+        "monitor", help="judge a live link between two stations from two receive-only ports",
+        description="Watch a live link from two receive-only ports, each hearing one station's transmit "
+                    "line (e.g. a Y cable): one console line per exchange with its verdict, findings as "
+                    "they happen, a capture written as it goes. Ctrl-C (or --duration) ends it and writes "
+                    "the reports. Exit status as for 'analyze'.")
+    m.add_argument("--a", required=True, metavar="PORT", help="the port hearing seat a's station (pyserial URL or device)")
+    m.add_argument("--b", required=True, metavar="PORT", help="the port hearing seat b's station")
+    _common(m)
+    m.add_argument("--capture", metavar="FILE",
+                   help="the capture written as it goes: .pcap, or .hexlog/.log/.txt "
+                        "(default: monitor-<UTC time>.pcap in the current directory)")
+    m.add_argument("--parmrk", action="store_true",
+                   help="the ports mark line conditions as termios PARMRK does (a real UART is told to; on a "
+                        "pseudo-terminal the writer marks them)")
+    m.add_argument("--fifo", type=int, default=8, metavar="CHARS",
+                   help="how many characters the port's receiver may collect before it hands them over "
+                        "(default 8: a 16550A UART's receive trigger; its 4-character timeout is less; 1: "
+                        "a pseudo-terminal)")
+    m.add_argument("--latency-ms", type=float, default=2.0, metavar="MS",
+                   help="how long the driver may hold what the receiver handed over before a read returns it "
+                        "(default 2; a USB adapter: its latency timer, 16 unless set lower, plus 1)")
+    m.add_argument("--resolution-ms", type=float, default=None, metavar="MS",
+                   help="the timing resolution itself (default: --fifo character times + --latency-ms)")
+    m.add_argument("--duration", type=float, default=None, metavar="SECONDS", help="stop after this long")
+    m.add_argument("--priority", choices=PRIORITY_MODES, default="auto",
+                   help="the reader thread's scheduling class: auto (default) takes the real-time class where the "
+                        "system permits it, realtime insists on it, normal never asks; the analysis stays normal")
+    m.set_defaults(func=cmd_monitor)
+
+
+def _common(p) -> None:
+    p.add_argument("--profile", required=True, metavar="FILE",
+                   help="the profile of the station in seat b (in a capture 'run' wrote: the IUT's); seat a is "
+                        "its conforming partner (the same settings, the other priority) unless --profile-a")
+    p.add_argument("--profile-a", metavar="FILE", help="seat a's own profile")
+    p.add_argument("--profile-b", metavar="FILE", help="seat b's own profile (instead of --profile's)")
+    p.add_argument("--judge", choices=["a", "b", "both"], default="both", help="whose deviations count (default both)")
+    p.add_argument("--tolerance-ms", type=float, default=50.0,
+                   help="how late a station may act on its own timer, plus 25%% of the timer (default 50)")
+    p.add_argument("--junit", metavar="PATH", help="write a JUnit XML file")
+    p.add_argument("--json", metavar="PATH", help="write the results object as JSON")
+    p.add_argument("--html", metavar="PATH", help="write the HTML report")
+    p.add_argument("-q", "--quiet", action="store_true", help="only the summary")
+
+
+# ------------------------------------------------------------------ shared
+
+
+class Setup:
+    """The stations' parameters, their applications and the procedure's analyzer."""
+
+    def __init__(self, proc, params: dict, profiles: dict, kit, paths: dict):
+        self.proc, self.params, self.profiles, self.kit, self.paths = proc, params, profiles, kit, paths
+
+    def profile_dict(self, judged, resolution: float) -> dict:
+        d = dict(self.proc.profile_dict(self.params["b"]))
+        d["seat a"] = ", ".join(f"{k} {v}" for k, v in self.proc.profile_dict(self.params["a"]).items())
+        d["judged"] = ", ".join(f"seat {s}" for s in judged) or "none"
+        d["timing resolution"] = f"{resolution * 1000:.3f} ms"
+        d["send trigger"] = f"seat a {self.kit.apps['a']}, seat b {self.kit.apps['b']}"
+        return d
+
+
+def _setup(cmd: str, args) -> Setup | None:
+    from ptpcert.cli.run import _load_profile
+
+    base = _load_profile(cmd, args.profile)
+    if base is None:
+        return None
+    prof_b = _load_profile(cmd, args.profile_b) if args.profile_b else base
+    prof_a = _load_profile(cmd, args.profile_a) if args.profile_a else None
+    if prof_b is None or (args.profile_a and prof_a is None):
+        return None
+    proc = prof_b.procedure
+    if prof_a is not None and prof_a.procedure is not proc:
+        print(f"ptpcert {cmd}: the profiles are for {prof_a.procedure.title} and {proc.title}; "
+              "a link carries one procedure", file=sys.stderr)
+        return None
+    params = {"b": prof_b.params,
+              "a": prof_a.params if prof_a is not None else proc.tester_params(base.params)}
+    apps = {"b": "echo" if prof_b.echo else "none",
+            "a": "echo" if prof_a is not None and prof_a.echo else "none"}
+    kit = proc.analyzer(params["a"], params["b"], apps=apps, late_ms=args.tolerance_ms)
+    if kit is None:
+        print(f"ptpcert {cmd}: line analysis of {proc.title} is not available yet", file=sys.stderr)
+        return None
+    paths = {"a": args.profile_a or f"{args.profile} (the other priority)", "b": args.profile_b or args.profile}
+    return Setup(proc, params, {"a": prof_a, "b": prof_b}, kit, paths)
+
+
+def _judged(args) -> str:
+    return "ab" if args.judge == "both" else args.judge
+
+
+class ConsoleListener:
+    """Prints findings as they stand and one line per finished exchange."""
+
+    def __init__(self, seats: dict, *, quiet: bool = False, every: bool = True, out=None):
+        self.seats, self.quiet, self.every = seats, quiet, every
+        self.out = out or sys.stdout
+        self.exchanges = 0
+        self.findings = 0
+
+    def finding(self, f) -> None:
+        from ptpcert import results as R
+
+        self.findings += 1
+        if not self.quiet and f.grade == R.FAIL:
+            print(f"  ! {f.text(self.seats)}", file=self.out, flush=True)
+
+    def exchange(self, line, e) -> None:
+        from ptpcert.analysis import summary_line
+
+        self.exchanges += 1
+        if not self.quiet and (self.every or e.findings):
+            print(summary_line(line, e, self.seats), file=self.out, flush=True)
+
+
+def _finish(result, args, t0: float) -> int:
+    from ptpcert import report as rep
+    from ptpcert import results as R
+    from ptpcert.cli.run import _now, write_reports
+
+    result.wall_time = round(time.monotonic() - t0, 3)
+    result.finished = _now()
+    if args.html:
+        result.html_path = args.html
+    written = write_reports(result, args, args.command)
+    print(rep.summary(result).replace(" cases in ", " results in "))
+    for kind in ("junit", "json", "html"):
+        if getattr(args, kind) and kind in written:
+            print(f"{kind}: {getattr(args, kind)}")
+    if len(written) < sum(bool(getattr(args, k)) for k in ("junit", "json", "html")):
+        return 2
+    if result.counts()[R.ERROR] and result.exit_status() == 0:
+        return 2
+    return result.exit_status()
+
+
+def _settings(line):
+    """A procedure's line settings as a capture's."""
+    from ptpcert import capture as C
+    return C.LineSettings(line.baud_rate, line.data_bits, line.parity, line.stop_bits)
+
+
+# ------------------------------------------------------------------ analyze
+
+
+def _run_url(path: str, cap) -> str | None:
+    """The --iut URL of the run a capture comes from, if it says."""
+    import json
+
+    if str(path).lower().endswith(".json"):
+        try:
+            d = json.loads(Path(path).read_text("utf-8"))
+        except (OSError, ValueError):
+            d = None
+        if isinstance(d, dict) and "schema" in d:
+            return str(d.get("iut") or "") or None
+    for n in cap.notes:
+        m = _RUN_NOTE.match(n)
+        if m:
+            return m.group(1)
+        if n.startswith("IUT: "):
+            return n[5:]
+    return None
+
+
+def cmd_analyze(args) -> int:
+    from ptpcert import analysis as A
+    from ptpcert import capture as C
+
+    t0 = time.monotonic()
+    setup = _setup("analyze", args)
+    if setup is None:
+        return 2
+    try:
+        cap = C.load(args.capture, args.from_, args.case)
+    except C.CaptureError as exc:
+        print(f"ptpcert analyze: {exc}", file=sys.stderr)
+        return 2
+    url = _run_url(args.capture, cap)
+    restarting = url is not None and url.startswith(_RESTARTING)
+    if args.restart_at_cases == "auto":
+        restart = {"b"} if restarting else set()
+    else:
+        restart = {"none": set(), "both": {"a", "b"}}.get(args.restart_at_cases, {args.restart_at_cases})
+    if args.case and restart and not any(m.text.lower().startswith("case ") for m in cap.marks):
+        # one case of a run: it began at t = 0, with the stations switched on as the run did
+        cap.marks.insert(0, C.Mark(0.0, f"case {args.case}"))
+    if args.resolution_ms is not None:
+        resolution = args.resolution_ms / 1000.0
+    elif url is not None and not url.startswith("sim:"):
+        resolution = max(setup.kit.char("a"), setup.kit.char("b")) + 0.002
+    else:
+        resolution = 0.0
+    notes = []
+    ours = _settings(setup.proc.line(setup.params["b"]))
+    if cap.line is not None and str(cap.line) != str(ours):
+        notes.append(f"the capture says the line is {cap.line}; the analysis uses the profiles' {ours}")
+    judged = _judged(args)
+    listener = ConsoleListener(dict(cap.seats), quiet=args.quiet, every=args.verbose)
+    if not args.quiet:
+        print(f"ptpcert analyze: {args.capture}: {len(cap.chunks)} chunks, {cap.duration:.3f} s; "
+              f"judging seat{'s' if len(judged) > 1 else ''} {' and '.join(judged)}; "
+              f"timing resolution {resolution * 1000:.3f} ms"
+              + (f"; seat b restarts at each case ({url})" if restart else ""), flush=True)
+    an = A.analyze(cap, setup.kit, judge=judged, resolution=resolution, restart_at_cases=restart,
+                   source=str(args.capture), listener=listener)
+    notes.append(f"timing resolution {resolution * 1000:.3f} ms")
+    result = A.to_results(an, profile=setup.profile_dict(an.line.judged, resolution), notes=notes)
+    result.profile_path = f"seat a: {setup.paths['a']}; seat b: {setup.paths['b']}"
+    return _finish(result, args, t0)
+
+
+# ------------------------------------------------------------------ monitor
+
+
+def resolution_for(line, latency: float, fifo: int = 8) -> float:
+    """The timing resolution of timestamps taken when a port's read returns: a UART hands
+    characters over when ``fifo`` of them are in its receive FIFO (a lone one after its
+    receive timeout, about 4 character times), and the driver may hold them ``latency``
+    seconds more."""
+    return max(fifo, 1) * line.char_time + latency
+
+
+def cmd_monitor(args) -> int:
+    import datetime as dt
+    import signal
+
+    from ptpcert import analysis as A
+    from ptpcert import capture as C
+    from ptpcert.analysis.monitor import Monitor, MonitorError
+
+    t0 = time.monotonic()
+    setup = _setup("monitor", args)
+    if setup is None:
+        return 2
+    line_b = setup.proc.line(setup.params["b"])
+    resolution = (args.resolution_ms / 1000.0 if args.resolution_ms is not None
+                  else resolution_for(line_b, args.latency_ms / 1000.0, args.fifo))
+    started = dt.datetime.now(dt.timezone.utc)
+    path = args.capture or f"monitor-{started.strftime('%Y%m%dT%H%M%SZ')}.pcap"
+    try:
+        fmt = C.format_of(path)
+    except C.CaptureError as exc:
+        print(f"ptpcert monitor: {exc}", file=sys.stderr)
+        return 2
+    if fmt not in ("pcap", "hexlog"):
+        print(f"ptpcert monitor: the capture is written as it goes: .pcap or .hexlog, not {path}", file=sys.stderr)
+        return 2
+    judged = _judged(args)
+    seats = {"a": args.a, "b": args.b}
+    listener = ConsoleListener(seats, quiet=args.quiet, every=True)
+    line = A.LineAnalysis(setup.kit, judge=judged, resolution=resolution, listener=listener)
+    settings = _settings(line_b)
+    meta = C.Capture([], seats, settings, started, None,
+                     [f"ptpcert monitor, timing resolution {resolution * 1000:.3f} ms"])
+    try:
+        mon = Monitor(args.a, args.b, line_b, parmrk=args.parmrk)
+    except MonitorError as exc:
+        print(f"ptpcert monitor: {exc}", file=sys.stderr)
+        return 2
+    print(f"ptpcert monitor: seat a on {args.a}, seat b on {args.b}, {line_b.describe()}; timing resolution "
+          f"{resolution * 1000:.3f} ms; capture {path}; Ctrl-C ends it", flush=True)
+    interrupted = []
+
+    def stop(*_):
+        interrupted.append(True)
+
+    old = signal.signal(signal.SIGTERM, stop)
+    old_int = signal.signal(signal.SIGINT, stop)
+    try:
+        with open(path, "wb" if fmt == "pcap" else "w", **({} if fmt == "pcap" else {"encoding": "utf-8"})) as fp:
+            writer = C.PcapWriter(fp, started) if fmt == "pcap" else C.HexLogWriter(fp, meta)
+            with priority.harness(args.priority, this_thread=False) as how:
+                end = mon.run(line, writer, stop=lambda: bool(interrupted), duration=args.duration,
+                              resolution=resolution)
+            writer.close(end)
+    except OSError as exc:
+        print(f"ptpcert monitor: {path}: {exc.strerror}", file=sys.stderr)
+        return 2
+    except priority.PriorityError as exc:
+        print(f"ptpcert monitor: {exc}", file=sys.stderr)
+        return 2
+    finally:
+        signal.signal(signal.SIGTERM, old)
+        signal.signal(signal.SIGINT, old_int)
+        mon.close()
+    line.close(end)
+    cap = C.Capture(list(line.chunks), seats, settings, started, end, list(meta.notes), list(line.marks))
+    an = A.Analysis(line, cap, setup.kit, path)
+    result = A.to_results(an, profile=setup.profile_dict(line.judged, resolution),
+                          notes=[f"timing resolution {resolution * 1000:.3f} ms (timestamps taken when a read returned)"])
+    result.iut = f"seat a: {args.a}, seat b: {args.b}"
+    result.harness_scheduling = how
+    result.profile_path = f"seat a: {setup.paths['a']}; seat b: {setup.paths['b']}"
+    if mon.stalls:
+        print(f"ptpcert monitor: {mon.stalls} time(s) the monitor was not scheduled in time: the timing of what "
+              "came in meanwhile is lost (marked in the capture; findings there are informational)")
+    print(f"\n{listener.exchanges} exchanges, {end:.1f} s watched; capture: {path}")
+    return _finish(result, args, t0)

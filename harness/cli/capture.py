@@ -1,0 +1,55 @@
+"""The ``capture`` command: convert a recorded link between ptpcert's capture formats."""
+
+from __future__ import annotations
+
+import sys
+
+
+def add_commands(sub) -> None:
+    from ptpcert.capture import FORMATS
+
+    cap = sub.add_parser("capture", help="convert captures of a serial link (transcript, hex log, pcap)",
+                         description="Work with captures of a serial link: ptpcert's transcripts "
+                                     "(results.json), capture JSON, the hex log and pcap for Wireshark.")
+    csub = cap.add_subparsers(dest="capture_command", metavar="SUBCOMMAND")
+    conv = csub.add_parser(
+        "convert", help="convert a capture from one format to another",
+        description="Convert a capture. The formats come from the extensions (.json: capture JSON, or a "
+                    "results object when it is one; .hexlog/.log/.txt: hex log; .pcap: pcap with link "
+                    "type RTAC serial, for Wireshark) or from --from/--to. OUT '-' writes to standard "
+                    "output (default format there: hexlog). Exit status: 0 converted, 2 on any error.")
+    conv.add_argument("input", metavar="IN", help="the capture to read")
+    conv.add_argument("output", metavar="OUT", help="the file to write, or - for standard output")
+    conv.add_argument("--from", dest="from_", choices=FORMATS, metavar="FMT",
+                      help=f"the input's format ({', '.join(FORMATS)})")
+    conv.add_argument("--to", choices=FORMATS, metavar="FMT", help=f"the output's format ({', '.join(FORMATS)})")
+    conv.add_argument("--case", metavar="ID",
+                      help="from a results object: this case only (default: the whole run on one timeline)")
+    conv.set_defaults(func=cmd_convert)
+    cap.set_defaults(func=lambda args: _no_subcommand(cap))
+
+
+def _no_subcommand(parser) -> int:
+    parser.print_usage(sys.stderr)
+    print("ptpcert capture: give a subcommand (convert)", file=sys.stderr)
+    return 2
+
+
+def cmd_convert(args) -> int:
+    from ptpcert import capture as C
+
+    try:
+        cap = C.load(args.input, args.from_, args.case)
+        if args.output == "-":
+            data = C.dumps(cap, args.to or "hexlog", args.case or "capture")
+            out = sys.stdout.buffer
+            out.write(data)
+            out.flush()
+            return 0
+        C.save(cap, args.output, args.to, args.case or "capture")
+    except C.CaptureError as exc:
+        print(f"ptpcert capture: {exc}", file=sys.stderr)
+        return 2
+    n = len(cap.chunks)
+    print(f"{args.output}: {n} chunk{'s' if n != 1 else ''}, {cap.duration:.6f} s")
+    return 0
