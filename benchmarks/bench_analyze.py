@@ -30,7 +30,7 @@ from ptpcert import analysis as A
 from ptpcert import capture as C
 from ptpcert import results as R
 from ptpcert.model.link import Link
-from ptpcert.procedures import by_name
+from ptpcert.registry import by_name
 from ptpcert.procedures.p3964.model import codec
 from ptpcert.procedures.p3964.model.params import Params3964
 from ptpcert.procedures.p3964.model.station import Station3964

@@ -36,7 +36,7 @@ from ptpcert.results import wire_events
 from ptpcert.runner import RunOptions, Runner, realtime_tolerance
 from ptpcert.scenario import Expr, Step, Vector
 from ptpcert.transport import make_factory
-from ptpcert.profile import reference_profile
+from ptpcert.procedures.p3964.description import reference_profile
 
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable
@@ -73,7 +73,7 @@ def precision(scheme: str, samples: int) -> tuple[dict[str, list[float]], str]:
         steps.append(Step("send", b"\x41"))
         steps.append(Step("send", b"\x42", at=Expr(f"{GAP_MS}ms")))
         steps.append(Step("expect", b"\x41\x42", after=Expr("-100ms"), within=Expr("100ms"), max_gap=Expr("100ms")))
-    v = Vector(id="BENCH.TIMING", title="timing", reference="-", rule="-", group="timing",
+    v = Vector(procedure="p3964", id="BENCH.TIMING", title="timing", reference="-", rule="-", group="timing",
                iut_role="idle", params=profile.params, steps=tuple(steps))
     with ExitStack() as stack:
         if scheme == "exec":

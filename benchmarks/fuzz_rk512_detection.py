@@ -48,7 +48,7 @@ def detect(name: str, budget: float, seed: int, profile) -> tuple[float | None, 
 
 
 def main() -> None:
-    from ptpcert.procedures import by_id
+    from ptpcert.registry import by_id
     from rk512_profiles import rk_profile
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])

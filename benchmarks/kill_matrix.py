@@ -22,7 +22,7 @@ from pathlib import Path
 
 from ptpcert import results as R
 from ptpcert.procedures.p3964.mutants import MUTANTS
-from ptpcert.profile import reference_profile
+from ptpcert.procedures.p3964.description import reference_profile
 from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
@@ -54,7 +54,7 @@ def rk512_variants(args):
     with timers a loaded machine can keep (the tester answers the IUT's STX within its ADT)."""
     from rk512_profiles import independent_command, independent_variants, iut_command, rk_profile_dict
 
-    from ptpcert.procedures import by_id
+    from ptpcert.registry import by_id
     from ptpcert.profile import profile_from_dict
 
     if args.independent:

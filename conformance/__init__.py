@@ -1,22 +1,21 @@
 """The conformance suite users run against their IUT: cases generated for the IUT's
-profile, one package per procedure, one module per group of the manual. Only the command
-line (and the pytest plugin) hands these cases to the runner."""
+profile, one package per procedure (``p3964``, ``rk512``, ``ascii``), one module per group of
+the manual. Each procedure names the module of its suite (``Procedure.suite``, a procedure
+from another distribution names its own); :func:`cases` loads it. Only the command line
+(and the pytest plugin) hands these cases to the runner."""
 
 from __future__ import annotations
+
+from importlib import import_module
 
 from ptpcert.profile import Profile
 from ptpcert.scenario import Vector
 
-from . import ascii, p3964, rk512
-
 
 def cases(profile: Profile) -> list[Vector]:
-    """Every case of the suite for the IUT this profile describes."""
-    pid = profile.procedure.id
-    if pid == "3964r":
-        return p3964.cases(profile.params)
-    if pid == "ascii":
-        return ascii.cases(profile.params)
-    if pid == "rk512":
-        return rk512.cases(profile)
-    raise ValueError(f"no conformance suite for procedure {profile.procedure.title}")
+    """Every case of the suite for the IUT this profile describes (empty where its procedure
+    has no suite)."""
+    proc = profile.procedure
+    if not proc.suite:
+        return []
+    return list(import_module(proc.suite).cases(profile))

@@ -17,46 +17,7 @@ from itertools import groupby
 
 from .model.events import Delivered, SendDone, SendFailed, Status
 from .driver import Endpoint, drive_station
-
-
-class ParmrkDecoder:
-    """Turns a byte stream marked as POSIX termios PARMRK marks it into line events:
-    ``FF FF`` -> data FF, ``FF 00 00`` -> BREAK, ``FF 00 xx`` -> xx with a parity/framing
-    error. Without marking (``enabled=False``) every byte is data."""
-
-    def __init__(self, enabled: bool):
-        self.enabled = enabled
-        self._pending = b""
-
-    def feed(self, t: float, data: bytes) -> list[tuple[float, str, int]]:
-        if not self.enabled:
-            return [(t, "byte", b) for b in data]
-        buf = self._pending + data
-        out: list[tuple[float, str, int]] = []
-        i, n = 0, len(buf)
-        while i < n:
-            b = buf[i]
-            if b != 0xFF:
-                out.append((t, "byte", b))
-                i += 1
-                continue
-            if i + 1 >= n:
-                break
-            if buf[i + 1] == 0xFF:
-                out.append((t, "byte", 0xFF))
-                i += 2
-                continue
-            if buf[i + 1] != 0x00:
-                out.append((t, "byte", 0xFF))  # not a mark: take FF as data
-                i += 1
-                continue
-            if i + 2 >= n:
-                break
-            x = buf[i + 2]
-            out.append((t, "break", 0) if x == 0 else (t, "invalid", x))
-            i += 3
-        self._pending = buf[i:]
-        return out
+from .model.parmrk import ParmrkDecoder
 
 
 class StdioEndpoint(Endpoint):

@@ -6,16 +6,23 @@ how its parameters are read and written, the timers its time expressions may nam
 sans-IO station and application (for ``sim:``, ``vectors --check`` and the tester's
 conforming partner), how a per-case IUT command is made, how its frames are named in
 transcripts and reports, its rules catalogue, its broken variants and its fuzz kit. The runner, the transports,
-the driver, the reports and the CLI use only this description; each procedure is a module
-of :mod:`ptpcert.procedures` that fills it in.
+the driver, the reports and the CLI use only this description; each procedure is a package
+(the built-in ones under :mod:`ptpcert.procedures`, others in distributions of their own)
+that fills it in and registers it in the entry-point group ``ptpcert.procedures``
+(:mod:`ptpcert.registry` finds it).
 
-The case generator is the one part that is not here: the suite (``ptpcert.conformance``)
-sits above the harness, and only the command line hands its cases to the runner.
+The case generator is named here (:attr:`Procedure.suite`) but not imported: the suite sits
+above the harness, and only the command line (:mod:`ptpcert.suite`) loads it and hands its
+cases to the runner.
+
+This module is a leaf: it imports nothing of ptpcert at its top.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+import sys
+from importlib import resources
 from typing import Any, Callable, Mapping
 
 
@@ -43,14 +50,29 @@ class Mutant:
             object.__setattr__(self, "profile", {})
 
 
+@dataclass(frozen=True)
+class MacroStep:
+    """A step kind of a procedure's own that stands for the send and expect steps of a whole
+    exchange (expanded by :meth:`Procedure.expand` before a run, e.g. the tester delivering a
+    block as a conforming sender): the keys a vector may give it besides its kind, the
+    longest payload (``data``, 1 to ``max_data`` bytes), and the time expressions of window
+    keys it may leave out."""
+
+    keys: frozenset[str]
+    max_data: int
+    defaults: Mapping[str, str] = field(default_factory=dict)
+
+
 class Procedure:
-    """The description of one procedure. Subclasses fill in every method."""
+    """The description of one procedure. Subclasses fill in every method that raises
+    NotImplementedError; the others have defaults that fit a procedure without the feature."""
 
     #: stable id: the vectors folder, the JSON results, the ``procedure`` key of a vector
     id: str = ""
     #: for people: "3964/3964R", "RK 512", "ASCII driver"
     title: str = ""
-    #: values of the profile's ``[iut] procedure`` key that select this procedure
+    #: values of the profile's ``[iut] procedure`` key that select this procedure; the first
+    #: is its usual name (``ptpcert iut`` without ``--procedure`` runs the first procedure's)
     names: tuple[str, ...] = ()
     #: the profile tables of its own (besides [iut], [iut.setups], [expected_failures])
     tables: tuple[str, ...] = ()
@@ -73,8 +95,15 @@ class Procedure:
     requirements: tuple[str, ...] = ()
     #: names of the ``[iut.setups]`` entries its cases may use
     setups: tuple[str, ...] = ()
-    #: step kinds of its own, expanded into send/expect steps before a run (e.g. prime)
-    macro_steps: tuple[str, ...] = ()
+    #: step kinds of its own, expanded into send/expect steps before a run, by name
+    macro_steps: Mapping[str, MacroStep] = {}
+    #: the module of its conformance suite, with ``cases(profile) -> list[Vector]`` (every
+    #: case for the IUT a profile describes); loaded by the command line only
+    suite: str = ""
+    #: the values its profiles allow for ``[iut] send_trigger``
+    send_triggers: tuple[str, ...] = ("echo", "none")
+    #: where it is listed among the procedures (command-line choices, help): lower first
+    rank: int = 100
 
     # -- profiles and parameters ----------------------------------------------------------
     def params_from_profile(self, iut: dict[str, Any], tables: dict[str, dict[str, Any]]) -> Any:
@@ -159,7 +188,7 @@ class Procedure:
         unknown = sorted(set(options) - set(known))
         if unknown:
             raise ValueError(f"unknown option {unknown[0]!r} (known: {', '.join(known)})")
-        app = options.get("app", "echo")
+        app = options.get("app", self.apps()[0])
         if app not in self.apps():
             raise ValueError(f"app={app!r}: allowed values are {', '.join(self.apps())}")
         mutant = options.get("mutant")
@@ -175,7 +204,7 @@ class Procedure:
     def sim_host(self, params: Any, vector: Any, options: dict[str, str], readings: Any = None) -> Any:
         """The model IUT of a ``sim:`` case, with its application."""
         station = self.station(params, mutant=options.get("mutant") or None, readings=readings)
-        return self.host(station, app=options.get("app", "echo"), vector=vector)
+        return self.host(station, app=options.get("app", self.apps()[0]), vector=vector)
 
     def partner_done(self, host: Any) -> bool:
         """The tester's partner is at rest: nothing to send, nothing in progress."""
@@ -264,19 +293,34 @@ class Procedure:
         procedure has none."""
         return None
     # -- the rules catalogue --------------------------------------------------------------
-    def rules(self) -> Any:
-        """The manual's rules of this procedure as data (:class:`ptpcert.rules.Catalogue`):
-        stable ids that cases, vectors and the model cite, for the traceability matrix. A
-        procedure has one when a catalogue file with its id is bundled in ``ptpcert.rules``;
-        otherwise the catalogue is empty."""
-        from .rules import for_procedure
-        return for_procedure(self.id)
+    def _package(self) -> str:
+        """The package that holds the description's module."""
+        module = sys.modules[type(self).__module__]
+        return module.__spec__.parent if module.__spec__ is not None else type(self).__module__
 
-    def rule_settings(self) -> list[tuple[str, dict[str, Any], dict[str, Any]]]:
+    def rules_file(self) -> Any | None:
+        """The procedure's rules catalogue as a file (an importlib.resources Traversable):
+        ``rules.toml`` in the package that holds its description; None where it has none.
+        :mod:`ptpcert.rules` reads it."""
+        entry = resources.files(self._package()).joinpath("rules.toml")
+        return entry if entry.is_file() else None
+
+    def vectors_dir(self) -> Any | None:
+        """A folder of golden vectors that ships with the procedure (an importlib.resources
+        Traversable), loaded with ptpcert's own; None: its vectors are among ptpcert's
+        bundled ones (``ptpcert.vectors``), as the built-in procedures' are."""
+        return None
+
+    def rule_settings(self) -> list[tuple[str, dict[str, Any], Any]]:
         """The IUT settings the traceability matrix is computed for, each as (label, the
-        values of the catalogue's dimensions, a complete profile ``[iut]`` table): a rule that
-        applies to a setting needs a case in the suite generated for it."""
-        return []
+        values of the catalogue's dimensions, the profile): a rule that applies to a setting
+        needs a case in the suite generated for it. By default one setting, the reference
+        IUT's profile (:meth:`reference_profile`)."""
+        try:
+            profile = self.reference_profile()
+        except NotImplementedError:
+            return []
+        return [("the reference profile", self.setting_values(profile.params), profile)]
 
     def setting_values(self, params: Any) -> dict[str, Any]:
         """The values of the catalogue's dimensions for an IUT with ``params``."""
@@ -306,6 +350,33 @@ class Procedure:
             return None
         from dataclasses import replace
         return replace(kit.readings, **change)
+
+    # -- the reference IUT's profile --------------------------------------------------------
+    def reference_profile(self, **settings: Any) -> Any:
+        """The profile (:class:`ptpcert.profile.Profile`) of the bundled reference IUT
+        (``ptpcert iut --procedure NAME``) with these profile keys changed: for tests, the
+        kill matrix, benchmarks and the traceability matrix."""
+        raise NotImplementedError
+
+    # -- the command line's explanations -----------------------------------------------------
+    def chart(self) -> Any | None:
+        """Its state machine for ``ptpcert model``: an object with ``table_text() -> str``
+        (the transition table as text) and ``svg() -> str`` (drawn); None where it has none."""
+        return None
+
+    def add_status_arguments(self, group) -> None:
+        """``ptpcert status`` options of its own (an argparse argument group)."""
+
+    def status_command(self, args) -> int | None:
+        """``ptpcert status`` with the options of :meth:`add_status_arguments`: print the
+        explanation (a value it cannot read: one line on stderr) and return the exit status;
+        None where none of its options was given."""
+        return None
+
+    def status_notes(self, code: int) -> list[str]:
+        """Lines ``ptpcert status CODE`` adds to a STATUS event's description (e.g. the
+        error number of a response frame that goes with it)."""
+        return []
 
     def __repr__(self) -> str:
         return f"<procedure {self.id}>"

@@ -5,27 +5,23 @@ failures expected with their reasons.
 
 ```toml
 [iut]
-procedure = "3964R"              # "3964" | "3964R" | ... (the procedure's own keys follow)
-priority = "low"                 # the IUT's own: "low" | "high"
-character_delay_ms = 20
-acknowledgement_delay_ms = 20
-setup_attempts = 6
-transmission_attempts = 6
-baud_rate = 9600                 # default 9600
-data_bits = 8                    # default 8
-parity = "even"                  # default "even"
-stop_bits = 1                    # default 1
+procedure = "NAME"               # one of the names a procedure answers to (ptpcert run --help)
+# ... the procedure's own [iut] keys: timers, attempts, line settings ...
 send_trigger = "echo"            # "echo": sends back every block it receives; "none"
 line_conditions = "parmrk"       # "parmrk": reads PARMRK marks on exec:/pty:; "none"
 status_from_stderr = true        # prints "STATUS 16#XXXX" lines on stderr
 timer_tolerance_ms = 0           # optional: how late the IUT's own timers may act (declared)
 
 [iut.setups]                     # optional: words appended to an exec:/pty: command for the
-no_buffer = "--buffer full"      # cases that need the IUT in a special state
+name = "--words"                 # cases that need the IUT in a special state
+
+# ... the procedure's own tables ...
 
 [expected_failures]
-"3964R.D08.DLE-OTHER" = "known bug #12: NAK sent at once"
+"CASE.ID" = "known bug #12: the reason"
 ```
+The procedure's description (:class:`ptpcert.procedure.Procedure`) reads its own keys and
+tables; this module reads the rest.
 """
 
 from __future__ import annotations
@@ -125,9 +121,9 @@ def load_profile(path: str | Path) -> Profile:
 
 
 def profile_from_dict(raw: dict[str, Any], where: str = "<profile>") -> Profile:
-    from .procedures import PROCEDURES, all_names, by_name
+    from ptpcert.registry import all_names, by_name, procedures
 
-    every = {"iut", "expected_failures"} | {t for p in PROCEDURES for t in p.tables}
+    every = {"iut", "expected_failures"} | {t for p in procedures() for t in p.tables}
     unknown_tables = sorted(set(raw) - every)
     if unknown_tables:
         raise ProfileError(where, unknown_tables[0], "unknown table or key (allowed: "
@@ -155,7 +151,7 @@ def profile_from_dict(raw: dict[str, Any], where: str = "<profile>") -> Profile:
         if key not in iut:
             hint = f"one of {', '.join(COMMON_CHOICES[key])}" if key in COMMON_CHOICES else "required"
             raise ProfileError(where, f"iut.{key}", f"missing ({hint})")
-    choices = dict(COMMON_CHOICES, send_trigger=getattr(proc, "send_triggers", COMMON_CHOICES["send_trigger"]))
+    choices = dict(COMMON_CHOICES, send_trigger=proc.send_triggers)
     for key, options in choices.items():
         if iut[key] not in options:
             raise ProfileError(where, f"iut.{key}", f"{iut[key]!r} is not allowed; allowed values: "
@@ -192,12 +188,3 @@ def profile_from_dict(raw: dict[str, Any], where: str = "<profile>") -> Profile:
     return Profile(proc, params, iut["send_trigger"], iut["line_conditions"], iut["status_from_stderr"],
                    dict(xf), dict(setups), where, float(timer_tol))
 
-
-def reference_profile(**overrides: Any) -> Profile:
-    """The profile matching ``ptpcert iut`` with the given options (tests, self-checks)."""
-    base = dict(procedure="3964R", priority="low", character_delay_ms=20,
-                acknowledgement_delay_ms=20, setup_attempts=6, transmission_attempts=6,
-                send_trigger="echo", line_conditions="parmrk", status_from_stderr=True)
-    base.update(overrides)
-    xf = base.pop("expected_failures", {})
-    return profile_from_dict({"iut": base, "expected_failures": xf})

@@ -15,21 +15,22 @@ import hashlib
 import re
 import threading
 import tomllib
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterable
 
-from ptpcert.model.hexbytes import parse_hex
-from ptpcert.procedures.p3964.model import codec
-
+from .model.hexbytes import parse_hex
 from .procedure import ProcedureError
+from .registry import by_id, by_name
+from .rules import for_procedure
 
 # ------------------------------------------------------------------ time expressions
-#: Names a time expression may use (each procedure allows its own subset, see
-#: Procedure.time_names). CHAR is one character time of the profile's frame; STARTUP is how
-#: long the harness waits for a freshly started IUT (set by the runner).
-TIME_NAMES = ("CDT", "ADT", "CHAR", "NAKTIM", "BLOCK", "STARTUP", "TRES", "XONWAIT")
+#: Names every time expression may use: CHAR is one character time of the profile's frame;
+#: STARTUP is how long the harness waits for a freshly started IUT (set by the runner). Each
+#: procedure adds the names of its timers (Procedure.time_names); a name is written in
+#: capitals, and a vector may use only its procedure's (checked when it is loaded or built).
 BASE_TIME_NAMES = ("CHAR", "STARTUP")
+_TIME_NAME = re.compile(r"^[A-Z][A-Z0-9_]*$")
 
 _UNIT = re.compile(r"(?<![\w.])(\d+(?:\.\d+)?)\s*(ms|s)\b")
 
@@ -82,8 +83,9 @@ def _dimension(node: ast.AST, text: str) -> bool:
     if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool):
         return False
     if isinstance(node, ast.Name):
-        if node.id not in TIME_NAMES:
-            raise ExprError(f"{text!r}: unknown name {node.id!r} (allowed: {', '.join(TIME_NAMES)})")
+        if not _TIME_NAME.match(node.id):
+            raise ExprError(f"{text!r}: {node.id!r} is not a timer name (timers are named in capitals, "
+                            "e.g. CDT, ADT, CHAR)")
         return True
     if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in ("_ms", "_s"):
         return True
@@ -103,7 +105,7 @@ def _dimension(node: ast.AST, text: str) -> bool:
             if right:
                 raise ExprError(f"{text!r}: divides by a duration")
             return left
-    raise ExprError(f"{text!r}: only + - * /, numbers, units ms/s and {', '.join(TIME_NAMES)} are allowed")
+    raise ExprError(f"{text!r}: only + - * /, numbers, units ms/s and timer names are allowed")
 
 
 def _eval(node: ast.AST, env: dict[str, float]) -> float:
@@ -137,9 +139,11 @@ def names_in(expr: "Expr") -> set[str]:
 ZERO = Expr("0")
 
 # ------------------------------------------------------------------ steps
-STEP_KINDS = ("send", "send_error", "break", "wait", "expect", "silence", "prime", "receive", "partner")
-#: step kinds whose data is a payload a procedure expands (Procedure.macro_steps)
-MACRO_KINDS = ("prime", "receive")
+#: the step kinds of every procedure; a procedure adds its own (Procedure.macro_steps), which
+#: it expands into these before a run
+STEP_KINDS = ("send", "send_error", "break", "wait", "expect", "silence", "partner")
+#: the step kinds whose value is bytes (the others' is a duration)
+DATA_KINDS = ("send", "send_error", "expect")
 SINCE = ("previous", "sent", "mark")
 GRADES = ("pass", "non-strict", "informational")
 _STEP_KEYS = {
@@ -148,8 +152,6 @@ _STEP_KEYS = {
     "break": {"at", "note", "mark"},
     "wait": {"note", "mark"},
     "silence": {"note", "mark"},
-    "prime": {"at", "note"},
-    "receive": {"after", "within", "optional", "absent_grade", "or", "or_grade", "since", "note"},
     "partner": {"note"},
     "expect": {"after", "within", "max_gap", "partial", "optional", "absent_grade", "or",
                "or_grade", "since", "note", "mark", "resume", "skip"},
@@ -173,13 +175,10 @@ class Step:
       bytes continue those of the last ``partial`` step with the same data: only what it
       did not receive is expected (an IUT that was stopped and goes on).
     * ``silence``: the IUT sends nothing for ``duration``.
-    * ``prime``: the tester delivers the payload ``data`` as a conforming sender would
-      (STX, DLE, block, DLE), its STX ``at`` after the reference point; expanded into
-      send/expect steps by :func:`expand`.
-    * ``receive``: the IUT sends the payload ``data`` (or one of ``alternatives``) and the
-      tester receives it as a conforming receiver would: the IUT's STX in [``after``,
-      ``within``], the tester's DLE, the block, the tester's DLE. ``optional``: the IUT may
-      send nothing (graded ``absent_grade``). Expanded by the procedure.
+    * a procedure's own kind (:attr:`ptpcert.procedure.Procedure.macro_steps`): a whole
+      exchange with the payload ``data`` (e.g. the tester delivers it as a conforming sender,
+      from ``at`` after the reference point, or receives it from the IUT within a window),
+      expanded into the steps above by :func:`expand`.
     * ``partner``: for at most ``duration``, the tester plays a conforming station with the
       vector's ``tester_params``, answering whatever the IUT sends, until both are idle and
       the line is quiet (used where the exact bytes depend on timing, e.g. a configuration
@@ -212,17 +211,22 @@ class Step:
     #: rest of a macro step it begins, e.g. the tester's replies to a block not sent)
     skip: int = 0
 
+    @property
+    def is_macro(self) -> bool:
+        """A procedure's own step kind (expanded before a run)."""
+        return self.kind not in STEP_KINDS
+
     def to_toml(self) -> dict[str, Any]:
         d: dict[str, Any] = {}
-        if self.kind in ("send", "send_error", "expect", "prime", "receive"):
+        if self.kind in DATA_KINDS or self.is_macro:
             d[self.kind] = vector_hex(self.data)
         else:
             d[self.kind] = str(self.duration)
-        if self.kind in ("send", "send_error", "break", "prime") and self.at != ZERO:
+        if self.at != ZERO and (self.kind in ("send", "send_error", "break") or self.is_macro):
             d["at"] = str(self.at)
         if self.kind == "send" and self.gap != ZERO:
             d["gap"] = str(self.gap)
-        if self.kind in ("expect", "receive"):
+        if self.kind == "expect" or (self.is_macro and self.within != ZERO):
             if self.since != "previous":
                 d["since"] = self.since
             if self.after != ZERO:
@@ -339,8 +343,8 @@ class Vector:
     tester_params: Any | None = None
     #: the case works close to a timer's edge: a failure is confirmed by a second run
     timing_sensitive: bool = False
-    #: the procedure (its id, e.g. "3964r"); see ptpcert.procedures
-    procedure: str = "3964r"
+    #: the procedure (its id, :attr:`ptpcert.procedure.Procedure.id`); see ptpcert.registry
+    procedure: str = field(kw_only=True)
     #: the IUT setup the case needs (a name of [iut.setups] and its arguments), or None
     setup: tuple[str, dict[str, Any]] | None = None
     #: procedure-specific data (e.g. RK 512 requests and results), a TOML table
@@ -351,7 +355,6 @@ class Vector:
     @property
     def proc(self):
         """The procedure's description (:class:`ptpcert.procedure.Procedure`)."""
-        from .procedures import by_id
         return by_id(self.procedure)
 
     @property
@@ -389,12 +392,13 @@ class Vector:
             d["binds"] = list(self.binds)
         if self.timing_sensitive:
             d["timing_sensitive"] = True
-        if self.procedure != "3964r":
+        params = self.proc.params_table(self.params)
+        if params.get("procedure") not in self.proc.names:   # the parameters do not name it
             d["procedure"] = self.proc.names[0]
         if self.setup is not None:
             name, args = self.setup
             d["setup"] = {"name": name, **args} if args else name
-        d["params"] = self.proc.params_table(self.params)
+        d["params"] = params
         if self.tester_params is not None:
             d["tester_params"] = self.proc.params_table(self.tester_params)
         if self.extra:
@@ -453,8 +457,6 @@ def load_vector_text(text: str, source: str) -> Vector:
 
 
 def vector_from_dict(raw: dict[str, Any], source: str = "<vector>") -> Vector:
-    from .procedures import by_name
-
     def err(fld: str, msg: str) -> VectorError:
         return VectorError(source, fld, msg)
 
@@ -471,10 +473,13 @@ def vector_from_dict(raw: dict[str, Any], source: str = "<vector>") -> Vector:
             raise err(key, "must be a non-empty string")
     if not _ID.match(raw["id"]):
         raise err("id", f"{raw['id']!r}: use upper-case letters, digits, '.', '-' and '_'")
-    # the procedure: named at the top, else by the parameters (3964/3964R vectors)
+    # the procedure: named at the top, else by the parameters (a procedure whose parameters
+    # name its variant, e.g. procedure = "3964R")
     pname = raw.get("procedure")
+    if pname is None and isinstance(raw["params"], dict):
+        pname = raw["params"].get("procedure")
     if pname is None:
-        pname = raw["params"].get("procedure", "3964R") if isinstance(raw["params"], dict) else "3964R"
+        raise err("procedure", "missing: name the procedure at the top (procedure = \"...\") or in [params]")
     try:
         proc = by_name(pname)
     except ProcedureError as exc:
@@ -508,7 +513,7 @@ def vector_from_dict(raw: dict[str, Any], source: str = "<vector>") -> Vector:
     rules = raw.get("rules", [])
     if not isinstance(rules, list) or any(not isinstance(r, str) for r in rules):
         raise err("rules", "a list of rule ids such as [\"3964.RX.BCC-CHECK\"] (ptpcert rules lists them)")
-    unknown_rules = proc.rules().unknown(rules)
+    unknown_rules = for_procedure(proc).unknown(rules)
     if unknown_rules:
         raise err("rules", f"{unknown_rules[0]!r} is not a rule of the {proc.title} catalogue "
                   "(ptpcert rules lists them)")
@@ -561,8 +566,8 @@ def check_times(v: Vector, err) -> None:
             e = getattr(s, key)
             bad = names_in(e) - allowed
             if bad:
-                raise err(f"steps[{i}].{key}", f"{e.text!r}: {sorted(bad)[0]} is not a timer of {v.proc.title} "
-                          f"(allowed: {', '.join(sorted(allowed))})")
+                raise err(f"steps[{i}].{key}", f"{e.text!r}: unknown name {sorted(bad)[0]!r}, not a timer of "
+                          f"{v.proc.title} (allowed: {', '.join(sorted(allowed))})")
             try:
                 value = e.eval(env)
             except (ZeroDivisionError, OverflowError):
@@ -587,8 +592,9 @@ def _params(proc, raw: Any, fld: str, err):
 
 
 _REPEAT = re.compile(r"^([0-9A-Fa-f]{2})\*(\d+)$")
-#: the longest run one ``XX*N`` token may stand for: the longest block on the line (1024
-#: data bytes, every one a doubled DLE, with its framing), and the most one step may hold
+#: the longest run one ``XX*N`` token may stand for (2 x 1024 bytes and a frame's few more:
+#: the longest frame a procedure of the CP 341 puts on the line, its data doubled), and the
+#: most one step may hold
 MAX_REPEAT = 2 * 1024 + 8
 MAX_STEP_BYTES = 64 * 1024
 
@@ -662,22 +668,24 @@ def _expr(value: Any, fld: str, err, duration: bool = True) -> Expr:
 def _step(raw: Any, fld: str, err, proc=None) -> Step:
     if not isinstance(raw, dict):
         raise err(fld, "must be a table such as { send = \"02\" }")
-    kinds = [k for k in STEP_KINDS if k in raw]
-    if kinds and kinds[0] in MACRO_KINDS and proc is not None and kinds[0] not in proc.macro_steps:
-        raise err(fld, f"a {kinds[0]} step is not available for {proc.title}")
+    macros = dict(proc.macro_steps) if proc is not None else {}
+    known = STEP_KINDS + tuple(macros)
+    kinds = [k for k in known if k in raw]
     if len(kinds) != 1:
-        raise err(fld, f"must have exactly one of {', '.join(STEP_KINDS)} (has {', '.join(kinds) or 'none'})")
+        raise err(fld, f"must have exactly one of {', '.join(known)} (has {', '.join(kinds) or 'none'})")
     kind = kinds[0]
-    extra = sorted(set(raw) - {kind} - _STEP_KEYS[kind])
+    macro = macros.get(kind)
+    allowed = macro.keys if macro is not None else _STEP_KEYS[kind]
+    extra = sorted(set(raw) - {kind} - allowed)
     if extra:
-        raise err(f"{fld}.{extra[0]}", f"not allowed in a {kind} step (allowed: {', '.join(sorted(_STEP_KEYS[kind]))})")
+        raise err(f"{fld}.{extra[0]}", f"not allowed in a {kind} step (allowed: {', '.join(sorted(allowed))})")
     kw: dict[str, Any] = {"kind": kind, "note": raw.get("note", "")}
-    if kind in ("send", "send_error", "expect", "prime", "receive"):
+    if kind in DATA_KINDS or macro is not None:
         kw["data"] = _hex(raw[kind], f"{fld}.{kind}", err)
-        if not kw["data"] and kind not in MACRO_KINDS:
+        if macro is None and not kw["data"]:
             raise err(f"{fld}.{kind}", "must not be empty")
-        if kind in MACRO_KINDS and not 1 <= len(kw["data"]) <= codec.MAX_BLOCK:
-            raise err(f"{fld}.{kind}", "a payload of 1..1024 bytes")
+        if macro is not None and not 1 <= len(kw["data"]) <= macro.max_data:
+            raise err(f"{fld}.{kind}", f"a payload of 1..{macro.max_data} bytes")
     else:
         kw["duration"] = _expr(raw[kind], f"{fld}.{kind}", err)
     for key in ("at", "gap", "after", "within", "max_gap"):
@@ -687,9 +695,10 @@ def _step(raw: Any, fld: str, err, proc=None) -> Step:
         if not isinstance(raw["mark"], bool):
             raise err(f"{fld}.mark", "must be true or false")
         kw["mark"] = raw["mark"]
-    if kind == "receive" and "within" not in raw:
-        kw["within"] = Expr("ADT")
-    if kind in ("expect", "receive"):
+    for key, text in (macro.defaults.items() if macro is not None else ()):
+        if key not in raw:
+            kw[key] = Expr(text)
+    if kind == "expect" or "within" in allowed:
         if kind == "expect" and "within" not in raw:
             raise err(f"{fld}.within", "an expect step needs a window: within = \"...\"")
         if "skip" in raw:
@@ -797,14 +806,20 @@ def load_dir(root, label: str | None = None) -> list[Vector]:
 
 
 def load_vector_sets(extra=(), *, only: bool = False) -> list[Vector]:
-    """The bundled golden vectors plus those of the directories ``extra``; with ``only``,
-    just those of ``extra`` (or just the bundled ones when ``extra`` is empty). Ids must be
-    unique across all of them."""
+    """The bundled golden vectors (ptpcert's, and those a procedure of another distribution
+    ships, :meth:`ptpcert.procedure.Procedure.vectors_dir`) plus those of the directories
+    ``extra``; with ``only``, just those of ``extra`` (or just the bundled ones when ``extra``
+    is empty). Ids must be unique across all of them."""
     from .paths import bundled_vectors
+    from .registry import procedures
 
     sets: list[list[Vector]] = []
     if not (only and extra):
         sets.append(load_dir(bundled_vectors(), "vectors"))
+        for proc in procedures():
+            own = proc.vectors_dir()
+            if own is not None:
+                sets.append(load_dir(own, f"vectors of {proc.title}"))
     for d in extra:
         sets.append(load_dir(Path(d)))
     out: list[Vector] = []
@@ -825,16 +840,12 @@ def expand(vector: Vector) -> tuple[Step, ...]:
     out: list[Step] = []
     proc = vector.proc
     for s in vector.steps:
-        if s.kind in MACRO_KINDS:
+        if s.is_macro:
             out += proc.expand(s, vector.params)
         else:
             out.append(s)
     return tuple(out)
 
-
-def with_params(vector: Vector, params: Any) -> Vector:
-    """The vector run with another parameter set (e.g. an IUT profile's timers)."""
-    return replace(vector, params=params)
 
 
 # ------------------------------------------------------------------ writing TOML

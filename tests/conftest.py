@@ -14,7 +14,9 @@ import pytest
 from hypothesis import settings
 from hypothesis.database import DirectoryBasedExampleDatabase
 
-import ptpcert.fuzz  # noqa: F401  (registers ptpcert-quick and ptpcert-thorough)
+from ptpcert.fuzz.settings import register_profiles
+
+register_profiles()   # ptpcert-quick and ptpcert-thorough
 
 _profile = os.environ.get("PTPCERT_HYPOTHESIS_PROFILE", "ptpcert-quick")
 _db = os.environ.get("PTPCERT_HYPOTHESIS_DB")

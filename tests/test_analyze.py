@@ -18,17 +18,19 @@ from pathlib import Path
 import pytest
 
 from ptpcert import analysis as A
+from ptpcert.rules import for_procedure
 from ptpcert import capture as C
 from ptpcert import results as R
 from ptpcert.cli import main as cli_main
 from ptpcert.model.link import Link
-from ptpcert.procedures import by_name
+from ptpcert.registry import by_name
 from ptpcert.procedures.p3964.model import codec
 from ptpcert.procedures.p3964.model.params import Params3964
 from ptpcert.procedures.p3964.model.readings import READINGS
 from ptpcert.procedures.p3964.model.station import Station3964
 from ptpcert.procedures.p3964.mutants import MUTANTS
-from ptpcert.profile import load_profile, reference_profile
+from ptpcert.profile import load_profile
+from ptpcert.procedures.p3964.description import reference_profile
 from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
@@ -328,7 +330,7 @@ BROKEN_RULE_ID = {
     "receive-counter-never-reset": "3964.RX.REPETITION", "setup-exhaustion-retries-block": "3964.TX.SETUP-FINAL-NAK",
     "transmission-counter-per-cause": "3964.TX.FINAL-NAK", "zero-length-unanswered": "3964.RX.ZERO-LENGTH",
 }
-CATALOGUE_IDS = {r.id for r in PROC.rules().rules}
+CATALOGUE_IDS = {r.id for r in for_procedure(PROC).rules}
 
 
 #: broken variants added to the suite after the analysis was built, not yet checked against

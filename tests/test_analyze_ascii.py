@@ -21,7 +21,7 @@ from ptpcert import results as R
 from ptpcert.cli import main as cli_main
 from ptpcert.model.events import Status
 from ptpcert.model.link import Link
-from ptpcert.procedures import by_name
+from ptpcert.registry import by_name
 from ptpcert.procedures.ascii.description import reference_profile
 from ptpcert.procedures.ascii.model import AsciiHost, AsciiParams, AsciiStation, send_bytes
 from ptpcert.procedures.ascii.mutants import MUTANTS

@@ -22,7 +22,7 @@ from ptpcert import results as R
 from ptpcert.cli import main as cli_main
 from ptpcert.model.codes import Code
 from ptpcert.model.link import Link
-from ptpcert.procedures import by_name
+from ptpcert.registry import by_name
 from ptpcert.procedures.p3964.model.params import Params3964
 from ptpcert.procedures.p3964.model.station import Station3964
 from ptpcert.procedures.rk512.model import RK512_READINGS, Rk512Station

@@ -11,7 +11,7 @@ import pytest
 
 import ptpcert.conformance as conformance
 from ptpcert import results as R
-from ptpcert.procedures.ascii.description import GROUPS, PAscii, reference_profile
+from ptpcert.procedures.ascii.description import GROUPS, AsciiProcedure, reference_profile
 from ptpcert.procedures.ascii.mutants import MUTANTS
 from ptpcert.profile import ProfileError, load_profile
 from ptpcert.runner import Runner, RunOptions
@@ -253,5 +253,5 @@ def test_frames_are_drawn_with_end_characters_xon_and_cdt_windows():
 def test_describe_frames_names_xon_and_xoff():
     p = reference_profile(**COMBOS["ec-xon-8-c"]).params
     log = [{"dir": "iut", "kind": "byte", "byte": b, "t": 0.01 + i * p.char_time} for i, b in enumerate(b"\x11AB\x03\x13")]
-    labels = [f["label"] for f in PAscii().describe_frames(log, p)]
+    labels = [f["label"] for f in AsciiProcedure().describe_frames(log, p)]
     assert labels[0].startswith("XON") and labels[-1].startswith("XOFF") and "41 42 <ETX>" in labels[1]

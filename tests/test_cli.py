@@ -40,7 +40,7 @@ def test_vectors_list_and_check():
 
 
 def test_vectors_check_fails_on_a_wrong_vector_and_reports_a_broken_one(tmp_path):
-    src = (ROOT / "vectors/3964r/fig2-6-receive.toml").read_text()
+    src = (ROOT / "vectors/p3964/fig2-6-receive.toml").read_text()
     (tmp_path / "wrong.toml").write_text(src.replace('expect = "10", within = "ADT", note = "DLE: the block',
                                                      'expect = "15", within = "ADT", note = "DLE: the block'))
     p = cli("vectors", "--check", "--dir", str(tmp_path))

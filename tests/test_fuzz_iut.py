@@ -11,8 +11,8 @@ import pytest
 from hypothesis import Phase, given, settings, strategies as st
 
 from ptpcert import results as R
-from ptpcert.fuzz import Generator, rule_for
-from ptpcert.profile import reference_profile
+from ptpcert.procedures.p3964.fuzz import Generator, rule_for
+from ptpcert.procedures.p3964.description import reference_profile
 from ptpcert.runner import RunOptions, Runner
 from ptpcert.scenario import load_dir
 from ptpcert.transport import make_factory

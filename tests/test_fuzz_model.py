@@ -38,7 +38,6 @@ from hypothesis import given, note, settings
 from hypothesis import seed as fixed_seed
 from hypothesis import strategies as st
 
-import ptpcert.fuzz  # noqa: F401  (registers the settings profiles)
 from ptpcert.model.events import Delivered, SendDone, SendFailed, Status
 from ptpcert.model.link import CORRUPT, DELIVER, DROP, DUPLICATE, Link
 from ptpcert.procedures.p3964.model import codec

@@ -12,9 +12,10 @@ from hypothesis import Phase, given, settings
 from hypothesis import strategies as st
 
 from ptpcert import results as R
-from ptpcert.fuzz import Campaign, CoSim, Finding, Generator
+from ptpcert.fuzz import Campaign, Finding
+from ptpcert.procedures.p3964.fuzz import CoSim, Generator
 from ptpcert.procedures.p3964.model import codec
-from ptpcert.profile import reference_profile
+from ptpcert.procedures.p3964.description import reference_profile
 from ptpcert.runner import Runner, RunOptions, realtime_tolerance
 from ptpcert.scenario import expand, timer_env
 from ptpcert.transport import make_factory

@@ -11,8 +11,8 @@ from hypothesis import strategies as st
 from rk512_profiles import PY, ROOT, rk_profile, rk_profile_dict, write_profile
 
 from ptpcert import results as R
-from ptpcert.procedures import by_id
-from ptpcert.procedures.rk512.fuzz import KIT_RK512, RkGenerator
+from ptpcert.registry import by_id
+from ptpcert.procedures.rk512.fuzz import FUZZ_KIT, RkGenerator
 from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_dir
 from ptpcert.transport import make_factory
@@ -45,9 +45,9 @@ def test_generated_examples_agree_with_the_model(link, prio, extra):
 
 
 def test_the_kit_is_the_procedures_and_knows_the_open_points():
-    assert by_id("rk512").fuzz_kit() is KIT_RK512 and KIT_RK512.check_reports
-    fields = set(KIT_RK512.readings.__dataclass_fields__)
-    for name, change in KIT_RK512.alternatives:
+    assert by_id("rk512").fuzz_kit() is FUZZ_KIT and FUZZ_KIT.check_reports
+    fields = set(FUZZ_KIT.readings.__dataclass_fields__)
+    for name, change in FUZZ_KIT.alternatives:
         assert name in by_id("rk512").readings and set(change) <= fields
 
 

@@ -20,7 +20,6 @@ from hypothesis import note
 from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, precondition, rule
 
-import ptpcert.fuzz  # noqa: F401  (registers the settings profiles)
 from ptpcert.model.link import CORRUPT, DELIVER, DROP, DUPLICATE, Link
 from ptpcert.procedures.p3964.model.params import Params3964
 from ptpcert.procedures.rk512.model import Rk512Host, Rk512Params, Rk512Station

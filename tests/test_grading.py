@@ -10,9 +10,9 @@ import pytest
 
 from ptpcert import results as R
 from ptpcert.model.app import Host
-from ptpcert.procedures import by_id
+from ptpcert.registry import by_id
 from ptpcert.procedures.p3964.model.readings import Readings
-from ptpcert.profile import reference_profile
+from ptpcert.procedures.p3964.description import reference_profile
 from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
@@ -21,7 +21,7 @@ from ptpcert.transport import sim_factory
 sys.path.insert(0, str(Path(__file__).resolve().parent / "fakes"))
 import standins  # noqa: E402
 
-PROC = by_id("3964r")
+PROC = by_id("p3964")
 VECTORS = load_vector_sets()
 PASSING = (R.PASS, R.NON_STRICT, R.INFORMATIONAL)
 

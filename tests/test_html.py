@@ -553,7 +553,7 @@ def test_traceability_section_gives_each_rule_this_runs_verdict():
     from ptpcert.report.html.rules import rule_verdicts, traceability_section
     from ptpcert.rules import for_procedure
 
-    cat = for_procedure("3964r")
+    cat = for_procedure("p3964")
     run = R.RunResult(tool_version="t", started="", procedure="3964/3964R",
                       profile={"procedure": "3964R", "priority": "low", "data_bits": 8})
     run.cases = [

@@ -8,7 +8,7 @@ import pytest
 
 from ptpcert import results as R
 from ptpcert.procedures.p3964.mutants import MUTANTS
-from ptpcert.profile import reference_profile
+from ptpcert.procedures.p3964.description import reference_profile
 from ptpcert.runner import Runner, RunOptions
 from ptpcert.suite import load_suite
 from ptpcert.transport import make_factory

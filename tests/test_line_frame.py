@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from ptpcert.profile import reference_profile
+from ptpcert.procedures.p3964.description import reference_profile
 from ptpcert.transport.line_frame import FIELDS, check_pty, compare, frame_of_termios, pty_keeps, read_frame
 
 ROOT = Path(__file__).resolve().parent.parent

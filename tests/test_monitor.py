@@ -28,7 +28,7 @@ from ptpcert import analysis as A
 from ptpcert import capture as C
 from ptpcert import results as R
 from ptpcert.analysis.monitor import chunks_of
-from ptpcert.procedures import by_name
+from ptpcert.registry import by_name
 from ptpcert.procedures.p3964.model.params import Params3964
 
 ROOT = Path(__file__).resolve().parent.parent

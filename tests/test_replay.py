@@ -6,7 +6,7 @@ import pytest
 
 from ptpcert import replay as RP
 from ptpcert.procedures.p3964.model import codec
-from ptpcert.profile import reference_profile
+from ptpcert.procedures.p3964.description import reference_profile
 from ptpcert.runner import Runner, RunOptions, realtime_tolerance
 from ptpcert.scenario import Vector, load_vector_sets
 from ptpcert.suite import load_suite
@@ -18,7 +18,7 @@ CHAR = P.char_time
 TOL = realtime_tolerance(PROC, P)
 MARGIN = RP.Margin(early=lambda d: TOL.early + TOL.early_rel * max(d, 0.0), late=TOL.late)
 NAK, STX, DLE = 0x15, 0x02, 0x10
-CASE = Vector(id="T", title="t", reference="r", rule="r", group="receive", iut_role="receiver", params=P,
+CASE = Vector(procedure="p3964", id="T", title="t", reference="r", rule="r", group="receive", iut_role="receiver", params=P,
               steps=(), binds=())
 
 

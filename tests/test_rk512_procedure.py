@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from ptpcert.procedures import by_id, by_name
+from ptpcert.registry import by_id, by_name
 from ptpcert.scenario import Step, Vector, expand, vector_from_dict
 
 from rk512_profiles import PY, ROOT, rk_profile

@@ -11,7 +11,7 @@ from rk512_profiles import PY, ROOT, iut_command, rk_profile, rk_profile_dict, w
 
 import ptpcert.conformance as conformance
 from ptpcert import results as R
-from ptpcert.procedures import by_id
+from ptpcert.registry import by_id
 from ptpcert.procedures.rk512.description import GROUPS
 from ptpcert.profile import profile_from_dict
 from ptpcert.runner import Runner, RunOptions

@@ -404,7 +404,7 @@ def test_no_iut_process_is_left_behind(tmp_path, command):
 @pytest.mark.realtime
 def test_the_fuzzer_stops_each_iut_when_its_example_is_judged():
     from ptpcert.fuzz import Campaign
-    from ptpcert.profile import reference_profile
+    from ptpcert.procedures.p3964.description import reference_profile
     from ptpcert.runner import Runner, RunOptions
     from ptpcert.transport import ProcessFactory
     from ptpcert.transport.process import ExecTransport

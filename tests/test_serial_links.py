@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 from no_false_alarm import judged
-from ptpcert.profile import reference_profile
+from ptpcert.procedures.p3964.description import reference_profile
 from ptpcert.runner import Runner
 from ptpcert.scenario import Step, Vector
 from ptpcert.transport import BREAK, CHAR_ERROR, TransportError
@@ -113,7 +113,7 @@ def test_native_line_conditions_need_no_marking_by_the_iut():
 
     def vector(kind):
         step = Step("break") if kind == "break" else Step("send_error", b"\x41")
-        return Vector(id="X", title="x", reference="-", rule="-", group="break", iut_role="idle",
+        return Vector(procedure="p3964", id="X", title="x", reference="-", rule="-", group="break", iut_role="idle",
                       params=profile.params, steps=(step,))
     rfc2217 = frozenset({BREAK, NATIVE})
     assert runner.unsupported_reason(vector("break"), rfc2217) is None
@@ -126,7 +126,7 @@ def test_a_failure_over_a_network_link_must_reproduce():
     over rfc2217:// and socket:// a failed case runs once more before its failure stands."""
     class F:
         capabilities = frozenset({BREAK, NATIVE, NETWORK})
-    v = Vector(id="X", title="x", reference="-", rule="-", group="receive", iut_role="receiver",
+    v = Vector(procedure="p3964", id="X", title="x", reference="-", rule="-", group="receive", iut_role="receiver",
                params=PARAMS, steps=(Step("send", b"\x02"),))
     assert Runner(F(), reference_profile())._rerun_budget(v, "ok", realtime=True) == 1
     F.capabilities = frozenset({BREAK, NATIVE})

@@ -14,7 +14,7 @@ import ptpcert.conformance as conformance
 from ptpcert import results as R
 from ptpcert.procedures.p3964.description import GROUPS
 from ptpcert.procedures.p3964.mutants import MUTANTS
-from ptpcert.profile import reference_profile
+from ptpcert.procedures.p3964.description import reference_profile
 from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite

@@ -181,7 +181,7 @@ def test_every_row_and_outcome_has_a_manual_reference():
 
 def test_rows_and_outcomes_cite_rules_of_the_catalogue():
     from ptpcert.rules import for_procedure
-    catalogue = for_procedure("3964r")
+    catalogue = for_procedure("p3964")
     quiet = (T.IMPOSSIBLE, T.Action.IGNORE, T.Action.QUEUE_JOB)
     for state, inp, row in T.rows():
         assert not catalogue.unknown(row.rules), (state, inp, row.rules)
@@ -355,7 +355,7 @@ def test_the_public_surface_of_the_station():
 # Rules for transcripts, derived from the rows
 # ---------------------------------------------------------------------------------------------
 def test_rules_come_from_the_rows_that_send():
-    from ptpcert.fuzz import BLOCK_RULE, rule_for, rule_of_note
+    from ptpcert.procedures.p3964.fuzz import BLOCK_RULE, rule_for, rule_of_note
 
     for state, inp, row in T.rows():
         for name in row.sends:

@@ -10,14 +10,14 @@ from pathlib import Path
 import pytest
 
 from ptpcert.cli.rules import matrices
-from ptpcert.procedures import by_id
+from ptpcert.registry import by_id
 from ptpcert.procedures.p3964.model.params import Params3964
 from ptpcert.rules import Rule
-from ptpcert.rules.traceability import CHECKED, MISSING, UNTESTABLE, Setting, build, render_text
+from ptpcert.traceability import CHECKED, MISSING, UNTESTABLE, Setting, build, render_text
 from ptpcert.scenario import Expected, StatusSpec, Step, Vector, load_vector_sets
 
 ROOT = Path(__file__).resolve().parent.parent
-PROC = by_id("3964r")
+PROC = by_id("p3964")
 
 
 @pytest.fixture(scope="module")
@@ -45,22 +45,21 @@ def test_every_golden_vector_and_suite_case_cites_a_rule():
     golden = [v for v in load_vector_sets() if v.group != "regression" and v.procedure == PROC.id]
     assert golden
     assert all(v.rules for v in golden), [v.id for v in golden if not v.rules]
-    from ptpcert.profile import profile_from_dict
-    for _, _, table in PROC.rule_settings():
-        import ptpcert.conformance as conformance
-        cases = conformance.cases(profile_from_dict({"iut": table}))
+    import ptpcert.conformance as conformance
+    for _, _, profile in PROC.rule_settings():
+        cases = conformance.cases(profile)
         assert all(c.rules for c in cases), [c.id for c in cases if not c.rules]
 
 
 def _v(id, rules, **params):
-    return Vector(id=id, title=f"title of {id}", reference="§1", rule="r.", group="idle", iut_role="idle",
+    return Vector(procedure="p3964", id=id, title=f"title of {id}", reference="§1", rule="r.", group="idle", iut_role="idle",
                   params=Params3964(**params), steps=(Step("send", b"\x15"),), expected=Expected(StatusSpec()),
                   rules=tuple(rules))
 
 
 def test_a_rule_is_missing_in_a_setting_without_a_case():
     from ptpcert.rules import Catalogue
-    cat = Catalogue("3964r", "t", "3964", "m", (
+    cat = Catalogue("p3964", "t", "3964", "m", (
         Rule("3964.A.B", "§1", "Both.", "S", "any"),
         Rule("3964.A.R", "§1", "3964R only.", "S", "any", {"procedure": ("3964R",)}),
         Rule("3964.A.U", "§1", "Untestable.", "S", "any", untestable="a reason long enough to read well"),

@@ -12,8 +12,9 @@ from pathlib import Path
 
 import pytest
 
-from ptpcert.iut import ParmrkDecoder
-from ptpcert.profile import ProfileError, load_profile, profile_from_dict, reference_profile
+from ptpcert.model.parmrk import ParmrkDecoder
+from ptpcert.profile import ProfileError, load_profile, profile_from_dict
+from ptpcert.procedures.p3964.description import reference_profile
 from ptpcert.transport import BREAK, CHAR_ERROR, RESTART, STATUS, TransportError, make_factory
 from ptpcert.transport.base import IUTDied, StatusParser
 from ptpcert.transport.process import ExecTransport, PtyTransport

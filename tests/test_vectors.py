@@ -73,7 +73,7 @@ def test_informational_codes_raised_and_anticipated():
 
 # -- the schema ----------------------------------------------------------------------
 BASE = {
-    "id": "T.X", "title": "t", "reference": "§1", "rule": "r", "group": "idle",
+    "id": "T.X", "title": "t", "reference": "§1", "rule": "r", "group": "idle", "procedure": "3964R",
     "iut_role": "idle", "params": {}, "steps": [{"send": "15"}, {"silence": "CDT"}],
 }
 
@@ -88,6 +88,9 @@ def broken(**changes):
 @pytest.mark.parametrize("changes,field,fragment", [
     (dict(id=None), "id", "missing"),
     (dict(id="lower.case"), "id", "upper-case"),
+    (dict(procedure=None), "procedure", "missing"),
+    (dict(procedure="X.25"), "procedure", "not allowed"),
+    (dict(steps=[{"prime": "31"}], procedure="ASCII", params={}, group="send"), "steps[0]", "exactly one of"),
     (dict(group="misc"), "group", "allowed values"),
     (dict(iut_role="master"), "iut_role", "allowed values"),
     (dict(params={"cdt_ms": 15}), "params.cdt_ms", "steps of 10"),
@@ -115,8 +118,8 @@ def test_broken_file_reports_its_path(tmp_path):
     f.write_text("id = \n")
     with pytest.raises(VectorError, match="bad.toml: not valid TOML"):
         load_vector(f)
-    (tmp_path / "a.toml").write_text((ROOT / "vectors" / "3964r" / "d02-nak-in-idle.toml").read_text())
-    (tmp_path / "b.toml").write_text((ROOT / "vectors" / "3964r" / "d02-nak-in-idle.toml").read_text())
+    (tmp_path / "a.toml").write_text((ROOT / "vectors" / "p3964" / "d02-nak-in-idle.toml").read_text())
+    (tmp_path / "b.toml").write_text((ROOT / "vectors" / "p3964" / "d02-nak-in-idle.toml").read_text())
     f.unlink()
     with pytest.raises(VectorError, match="also the id of"):
         load_dir(tmp_path)

@@ -9,7 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from ptpcert.profile import ProfileError, reference_profile
+from ptpcert.profile import ProfileError
+from ptpcert.procedures.p3964.description import reference_profile
 
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable
@@ -67,7 +68,7 @@ def test_timer_tolerance_widens_only_the_late_side_of_windows_on_an_iut_timer():
     proc = prof.procedure
 
     def case(*steps):
-        return Vector(id="T", title="t", reference="r", rule="r", group="receive", iut_role="receiver",
+        return Vector(procedure="p3964", id="T", title="t", reference="r", rule="r", group="receive", iut_role="receiver",
                       params=prof.params, steps=tuple(steps), binds=())
 
     def verdict(profile, v):

@@ -5,7 +5,7 @@ buffer and line conditions. Each module is one group; each case cites its rule."
 
 from __future__ import annotations
 
-from ptpcert.procedures.ascii.model import AsciiParams
+from ptpcert.profile import Profile
 from ptpcert.scenario import Vector
 
 from . import buffer, cdt, end_chars, fixed_length, flow, line, send
@@ -13,9 +13,9 @@ from . import buffer, cdt, end_chars, fixed_length, flow, line, send
 GROUP_MODULES = (cdt, end_chars, fixed_length, send, flow, buffer, line)
 
 
-def cases(params: AsciiParams) -> list[Vector]:
-    """Every case of the suite for an IUT with these parameters."""
+def cases(profile: Profile) -> list[Vector]:
+    """Every case of the suite for the IUT this profile describes."""
     out: list[Vector] = []
     for module in GROUP_MODULES:
-        out += module.cases(params)
+        out += module.cases(profile.params)
     return out

@@ -5,7 +5,7 @@ catalogue, ``ptpcert rules``). The golden vectors run with them."""
 
 from __future__ import annotations
 
-from ptpcert.procedures.p3964.model.params import Params3964
+from ptpcert.profile import Profile
 from ptpcert.scenario import Vector
 
 from . import conflict, counters, frame, idle, line, receive, release, send, startup, timing
@@ -13,9 +13,9 @@ from . import conflict, counters, frame, idle, line, receive, release, send, sta
 GROUP_MODULES = (startup, frame, idle, receive, send, release, counters, conflict, line, timing)
 
 
-def cases(params: Params3964) -> list[Vector]:
-    """Every case of the suite for an IUT with these parameters."""
+def cases(profile: Profile) -> list[Vector]:
+    """Every case of the suite for the IUT this profile describes."""
     out: list[Vector] = []
     for module in GROUP_MODULES:
-        out += module.cases(params)
+        out += module.cases(profile.params)
     return out

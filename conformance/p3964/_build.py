@@ -152,7 +152,7 @@ def case(p: Params3964, id: str, title: str, reference: str, rule: str, group: s
          tester_params: Params3964 | None = None, timing_sensitive: bool = False, rules=(),
          setup=None, extra=None) -> Vector:
     return Vector(
-        id=f"SUITE.{id}", title=title, reference=reference, rule=rule, group=group, iut_role=role,
+        procedure="p3964", id=f"SUITE.{id}", title=title, reference=reference, rule=rule, group=group, iut_role=role,
         params=p, steps=tuple(steps),
         expected=Expected(status(*iut), status(*tester), tuple(h(x) for x in delivered),
                           tuple(h(x) for x in sent), tuple(h(x) for x in echo_after)),

@@ -18,7 +18,7 @@ from typing import Any, Callable
 
 from ptpcert import capture as C
 from ptpcert import priority
-from ptpcert.iut import ParmrkDecoder
+from ptpcert.model.parmrk import ParmrkDecoder
 
 
 class MonitorError(RuntimeError):

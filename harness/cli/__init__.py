@@ -85,79 +85,31 @@ def _vectors(args) -> int:
     return 1 if failed else 0
 
 
-def _reatel_value(text: str) -> int:
-    """``34``, ``34h``, ``0x34`` or ``16#34`` -> 0x34 (an RK 512 error number is a byte)."""
-    t = text.strip().lower().removeprefix("16#").removeprefix("0x").removesuffix("h")
-    value = int(t, 16)
-    if not 0 <= value <= 0xFF:
-        raise ValueError(text)
-    return value
-
-
-def _reatel_text(reatel: int) -> str:
-    """REATEL -> STATUS both ways (Table 8-3): the requester's event, the responder's."""
-    from ptpcert.procedures.rk512.model.codec import STATUS_REATEL, status_for_reatel
-    from ptpcert.status import short
-
-    if reatel == 0:
-        return "REATEL 00h: no error (the request is done; the requester reports no event)"
-    code = status_for_reatel(reatel)
-    listed = code != 0x090E
-    lines = [f"REATEL {reatel:02X}h" + ("" if listed else " (not in Table 8-3)"),
-             f"  the requester reports 16#{code:04X}  {short(code)}"]
-    senders = sorted(c for c, r in STATUS_REATEL.items() if r == reatel)
-    if senders:
-        lines.append("  the responder sends it for " + ", ".join(f"16#{c:04X} ({short(c)})" for c in senders))
-    elif listed:
-        lines.append("  no responder event of Table 8-1 sends it (S5 partners do)")
-    lines.append("  source     §8.4 Table 8-3")
-    return "\n".join(lines)
-
-
-def _reatel_of(code: int) -> str | None:
-    """The REATEL line for an RK 512 class-06 or class-09 event (Table 8-3), or None."""
-    from ptpcert.procedures.rk512.model.codec import STATUS_REATEL, reatels_for_status
-
-    if code >> 8 == 0x06:
-        r = STATUS_REATEL.get(code)
-        return (f"  REATEL     the responder answers with {r:02X}h (Table 8-3)" if r is not None
-                else "  REATEL     none listed in Table 8-3 (an open point of the manual)")
-    if code >> 8 == 0x09:
-        rs = reatels_for_status(code)
-        return ("  REATEL     raised by " + ", ".join(f"{r:02X}h" for r in rs) + " in the partner's response (Table 8-3)"
-                if rs else "  REATEL     any error number Table 8-3 does not list")
-    return None
-
-
 def _status(args) -> int:
+    from ptpcert.registry import procedures
     from ptpcert.status import UnknownStatus, catalogue, lookup
 
-    if args.reatel:
-        status = 0
-        for text in args.reatel:
-            try:
-                print(_reatel_text(_reatel_value(text)))
-            except ValueError:
-                print(f"ptpcert status: --reatel {text!r}: an error number 00..FF in hex (e.g. 34, 34h, 0x34)",
-                      file=sys.stderr)
-                status = 2
-        return status
+    for proc in procedures():   # an option of a procedure's own (e.g. an error number of its frames)
+        status = proc.status_command(args)
+        if status is not None:
+            return status
     if args.list:
         for code, e in sorted(catalogue().items()):
             print(f"{e.notation}  {e.event_class}  {e.side:<8} {', '.join(e.protocols):<24} {e.short}")
         print(f"{len(catalogue())} events (Tables 8-1, 8-2)")
         return 0
     if not args.code:
-        print("ptpcert status: give a code (e.g. 16#0808), --reatel 34 or --list", file=sys.stderr)
+        print("ptpcert status: give a code (e.g. 16#0808), --list, or an option of a procedure "
+              "(ptpcert status --help)", file=sys.stderr)
         return 2
     status = 0
     for code in args.code:
         try:
             e = lookup(code)
             print(e.describe())
-            more = _reatel_of(e.code) if "RK 512" in e.protocols else None
-            if more:
-                print(more)
+            for proc in procedures():
+                for line in proc.status_notes(e.code):
+                    print(line)
         except UnknownStatus as exc:
             print(f"ptpcert status: {exc}", file=sys.stderr)
             status = 2
@@ -165,14 +117,28 @@ def _status(args) -> int:
 
 
 def _model(args) -> int:
-    from ptpcert.procedures.p3964 import chart as statechart
+    from ptpcert.registry import by_name, procedures
 
+    charted = [p for p in procedures() if p.chart() is not None]
+    if args.procedure:
+        proc = by_name(args.procedure)
+        if proc.chart() is None:
+            print(f"ptpcert model: {proc.title} has no state chart (charts: "
+                  + (", ".join(p.title for p in charted) or "none") + ")", file=sys.stderr)
+            return 2
+    elif len(charted) == 1:
+        proc = charted[0]
+    else:
+        print("ptpcert model: name the procedure with --procedure (charts: "
+              + (", ".join(p.title for p in charted) or "none") + ")", file=sys.stderr)
+        return 2
+    chart = proc.chart()
     if args.svg:
         with open(args.svg, "w", encoding="utf-8") as f:
-            f.write(statechart.svg())
+            f.write(chart.svg())
         print(f"ptpcert: state machine drawn into {args.svg}")
     else:
-        sys.stdout.write(statechart.table_text())
+        sys.stdout.write(chart.table_text())
     return 0
 
 
@@ -180,10 +146,12 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     """The whole command line; with ``command="iut"`` the commands whose modules the
     reference IUT's start-up need not load (capture, analyze, monitor, rules) are left out:
     an exec: IUT is started for every case, so its start-up is part of every case's time."""
+    from ptpcert.registry import all_names, procedures
+
     ap = Parser(
         prog="ptpcert",
         description="Conformance test suite and fuzzer for the CP 340/341/441 point-to-point "
-                    "procedures 3964 / 3964R and the RK 512 computer link.")
+                    "procedures: " + ", ".join(p.title for p in procedures()) + ".")
     ap.add_argument("--version", action="version", version=f"ptpcert {__version__}")
     sub = ap.add_subparsers(dest="command", metavar="COMMAND")
 
@@ -201,12 +169,12 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     s = sub.add_parser("status", help="explain a STATUS event code (e.g. 16#0808)")
     s.add_argument("code", nargs="*", help="16#0808, 0x0808 or 0808")
     s.add_argument("--list", action="store_true", help="list all 80 events")
-    s.add_argument("--reatel", action="append", metavar="HEX",
-                   help="RK 512: explain an error number of a response frame (e.g. 34): the event the requester "
-                        "reports and the responder's events that send it (Table 8-3); repeatable")
+    for proc in procedures():
+        proc.add_status_arguments(s.add_argument_group(proc.title))
     s.set_defaults(func=_status)
 
-    m = sub.add_parser("model", help="the 3964/3964R transition table, as text or drawn (--svg)")
+    m = sub.add_parser("model", help="a procedure's transition table, as text or drawn (--svg)")
+    m.add_argument("--procedure", choices=all_names(), help="whose state machine (needed where several have one)")
     m.add_argument("--svg", metavar="FILE", help="draw the state machine into FILE (a self-contained SVG)")
     m.set_defaults(func=_model)
 

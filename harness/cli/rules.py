@@ -8,7 +8,7 @@ import sys
 
 
 def add_commands(sub) -> None:
-    from ptpcert.procedures import all_names
+    from ptpcert.registry import all_names
 
     r = sub.add_parser(
         "rules", help="the traceability matrix: the manual's rules and the cases and vectors that check them",
@@ -30,22 +30,21 @@ def matrices(procedures, profile=None):
     """The matrix of each procedure: for each of its settings (or the profile's), the suite
     generated for it plus the golden vectors that run under it."""
     from ptpcert import conformance
-    from ptpcert.profile import profile_from_dict
-    from ptpcert.rules.traceability import Setting, build, runs_under
+    from ptpcert.rules import for_procedure
+    from ptpcert.traceability import Setting, build, runs_under
     from ptpcert.scenario import load_vector_sets
 
     vectors = load_vector_sets()
     out = []
     for proc in procedures:
-        catalogue = proc.rules()
+        catalogue = for_procedure(proc)
         if not len(catalogue):
             continue
         if profile is not None:
             params = profile.params
             settings = [(Setting("this profile", proc.setting_values(params)), profile)]
         else:
-            settings = [(Setting(label, values), profile_from_dict({"iut": table}, f"<{label}>"))
-                        for label, values, table in proc.rule_settings()]
+            settings = [(Setting(label, values), prof) for label, values, prof in proc.rule_settings()]
         suites = []
         for setting, prof in settings:
             cases = [v for v in vectors if v.procedure == proc.id and runs_under(v, prof.params)]
@@ -55,9 +54,9 @@ def matrices(procedures, profile=None):
 
 
 def cmd_rules(args) -> int:
-    from ptpcert.procedures import PROCEDURES, by_name
+    from ptpcert.registry import by_name, procedures
     from ptpcert.profile import ProfileError, load_profile
-    from ptpcert.rules.traceability import render_text, to_dict
+    from ptpcert.traceability import render_text, to_dict
     from ptpcert.scenario import VectorError
 
     profile = None
@@ -72,7 +71,7 @@ def cmd_rules(args) -> int:
     elif args.procedure:
         procs = [by_name(args.procedure)]
     else:
-        procs = list(PROCEDURES)
+        procs = list(procedures())
     try:
         ms = matrices(procs, profile)
     except VectorError as exc:

@@ -72,13 +72,13 @@ def add_commands(sub) -> None:
     r.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     r.set_defaults(func=cmd_run)
 
-    from ptpcert.procedures import PROCEDURES, all_names
+    from ptpcert.registry import all_names, procedures
     i = sub.add_parser("iut", help="run the bundled reference implementation (the model, in real time)",
                        description="The reference model as a real-time station on stdin/stdout (or --port), "
-                                   "with its application (3964/3964R: the echo application). STATUS events "
-                                   "go to stderr as 'STATUS 16#XXXX' lines.")
-    i.add_argument("--procedure", choices=all_names(), default="3964R")
-    i.add_argument("--cdt-ms", type=int, default=None, help="character delay time (default: the procedure's, 220 for 3964R)")
+                                   "with its application. STATUS events go to stderr as 'STATUS 16#XXXX' lines.")
+    i.add_argument("--procedure", choices=all_names(), default=None,
+                   help=f"the procedure (default {procedures()[0].names[0]})")
+    i.add_argument("--cdt-ms", type=int, default=None, help="character delay time (default: the procedure's)")
     i.add_argument("--baud", type=int, default=9600, help="baud rate; 0: do not pace the output")
     i.add_argument("--data-bits", type=int, choices=[7, 8], default=8)
     i.add_argument("--parity", choices=["none", "odd", "even"], default="even")
@@ -87,16 +87,15 @@ def add_commands(sub) -> None:
                    help="the input marks line conditions as termios PARMRK does (FF 00 00 BREAK, FF 00 xx error, FF FF data FF)")
     i.add_argument("--port", metavar="URL", help="use this serial port (pyserial URL or device) instead of stdin/stdout")
     i.add_argument("--app", default=None,
-                   help="the application: 3964/3964R: echo (default) or none; RK 512: script (default)")
+                   help="the application: "
+                        + "; ".join(f"{p.title}: {', '.join(p.apps())} (default {p.apps()[0]})" for p in procedures()))
     i.add_argument("--mutant", metavar="NAME", help="run a deliberately broken variant (see --list-mutants)")
     i.add_argument("--list-mutants", action="store_true", help="list the broken variants and exit")
     i.add_argument("--send", action="append", default=[], metavar="HEX",
-                   help="data the application hands over at start-up (repeatable): 3964/3964R a block, sent "
-                        "after the start-up NAK (e.g. '31 32 33'; with a partner's echo application two stations "
-                        "then keep the line busy); ASCII send jobs, hex payloads separated by commas, '-' for "
-                        "LEN 0 (the send_job setup)")
+                   help="data the application hands over at start-up (repeatable; what it is, the procedure's "
+                        "options say)")
     i.add_argument("-v", "--verbose", action="store_true", help="also log deliveries and job results on stderr")
-    for proc in PROCEDURES:
+    for proc in procedures():
         proc.add_iut_arguments(i.add_argument_group(f"{proc.title} options"))
     i.set_defaults(func=cmd_iut)
 
@@ -131,9 +130,10 @@ def add_commands(sub) -> None:
 
 def cmd_iut(args) -> int:
     from ptpcert.iut import run_iut
-    from ptpcert.procedures import by_name
+    from ptpcert.registry import by_name, procedures
 
-    proc = by_name(args.procedure)
+    proc = by_name(args.procedure) if args.procedure else procedures()[0]
+    args.procedure = args.procedure or proc.names[0]
     if args.list_mutants:
         for name, m in proc.mutants().items():
             print(f"{name:<28} {m.rule}")
@@ -445,9 +445,11 @@ def cmd_fuzz(args) -> int:
     import random
     import time
 
-    from ptpcert.fuzz import Campaign, export
+    from ptpcert.fuzz import Campaign, export, register_profiles
     from ptpcert.paths import findings_dir
     from ptpcert.runner import Runner, RunOptions
+
+    register_profiles()
 
     profile = _load_profile("fuzz", args.profile)
     if profile is None:

@@ -1,5 +1,6 @@
-"""The manual's rules as data: one catalogue per procedure (``<procedure>.toml`` files here,
-e.g. ``p3964.toml``), for the traceability matrix.
+"""The manual's rules as data: one catalogue per procedure (the ``rules.toml`` of the
+procedure's package, :meth:`ptpcert.procedure.Procedure.rules_file`), for the traceability
+matrix.
 
 A :class:`Catalogue` holds a procedure's :class:`Rule` s, each with a stable id (``3964.RX.BCC-CHECK``),
 the manual's section, figure or table, one sentence in our own words, where it applies
@@ -10,7 +11,7 @@ testable rule has a case (:mod:`ptpcert.traceability`). The catalogue also gives
 point of the manual (``A1`` ...) in short, with the grade a case gives an IUT that takes
 another defensible reading (:class:`Reading`; the full text is ``docs/readings.md``).
 
-Standard library only: the reports read it too.
+Standard library and the procedure registry only: the reports read it too.
 """
 
 from __future__ import annotations
@@ -18,17 +19,11 @@ from __future__ import annotations
 import re
 import tomllib
 from dataclasses import dataclass, field
-from functools import lru_cache
-from importlib import resources
 from typing import Any, Iterable, Iterator
 
-#: the dimensions a rule of the 3964(R) catalogue may be restricted to, with every value each
-#: can take; a catalogue declares its own in a [dimensions] table (these are the default)
-DIMENSIONS: dict[str, tuple[Any, ...]] = {
-    "procedure": ("3964", "3964R"),
-    "priority": ("low", "high"),
-    "data_bits": (7, 8),
-}
+from .. import registry
+from ..procedure import Procedure
+
 ROLES = ("sender", "receiver", "idle", "any")
 PROVENANCE = ("S", "F", "I", "O")
 #: how a case grades an IUT that takes another reading of an open point than the model:
@@ -104,7 +99,7 @@ class Catalogue:
     rules: tuple[Rule, ...]
     readings: dict[str, Reading] = field(default_factory=dict)
     #: the settings of an IUT a rule may be restricted to (profile keys) and their values
-    dimensions: dict[str, tuple[Any, ...]] = field(default_factory=lambda: dict(DIMENSIONS))
+    dimensions: dict[str, tuple[Any, ...]] = field(default_factory=dict)
 
     def __iter__(self) -> Iterator[Rule]:
         return iter(self.rules)
@@ -150,7 +145,7 @@ def parse(raw: dict[str, Any], source: str = "<catalogue>") -> Catalogue:
         if not isinstance(raw.get(key), str) or not raw[key]:
             raise CatalogueError(f"{source}: {key} missing")
     prefix = raw["prefix"]
-    dims_raw = raw.get("dimensions", DIMENSIONS)
+    dims_raw = raw.get("dimensions", {})
     if not isinstance(dims_raw, dict) or any(not isinstance(v, (list, tuple)) or not v for v in dims_raw.values()):
         raise CatalogueError(f"{source}: [dimensions] is a table of profile key = [its values]")
     dimensions = {k: tuple(v) for k, v in dims_raw.items()}
@@ -208,26 +203,35 @@ def parse(raw: dict[str, Any], source: str = "<catalogue>") -> Catalogue:
     return Catalogue(raw["procedure"], raw["title"], prefix, raw["manual"], tuple(rules), readings, dimensions)
 
 
-@lru_cache(maxsize=None)
+_CACHE: dict[str, Catalogue] = {}
+
+
+def for_procedure(procedure: Procedure | str) -> Catalogue:
+    """The catalogue of a procedure (its description, or its id such as ``p3964``), read once
+    from its ``rules.toml``; :data:`EMPTY` where it has none."""
+    proc = registry.by_id(procedure) if isinstance(procedure, str) else procedure
+    cached = _CACHE.get(proc.id)
+    if cached is not None:
+        return cached
+    entry = proc.rules_file()
+    if entry is None:
+        cat = EMPTY
+    else:
+        where = f"{proc.id}/{entry.name}"
+        try:
+            raw = tomllib.loads(entry.read_text("utf-8"))
+        except tomllib.TOMLDecodeError as exc:
+            raise CatalogueError(f"{where}: not valid TOML: {exc}") from None
+        cat = parse(raw, where)
+        if cat.procedure != proc.id:
+            raise CatalogueError(f"{where}: procedure = {cat.procedure!r}, but the file is {proc.title}'s "
+                                 f"(id {proc.id!r})")
+    return _CACHE.setdefault(proc.id, cat)
+
+
 def catalogues() -> tuple[Catalogue, ...]:
-    """Every catalogue bundled with ptpcert (one per procedure that has one)."""
-    out = []
-    for entry in sorted(resources.files(__name__).iterdir(), key=lambda e: e.name):
-        if entry.name.endswith(".toml"):
-            try:
-                raw = tomllib.loads(entry.read_text("utf-8"))
-            except tomllib.TOMLDecodeError as exc:
-                raise CatalogueError(f"{entry.name}: not valid TOML: {exc}") from None
-            out.append(parse(raw, entry.name))
-    return tuple(out)
-
-
-def for_procedure(procedure_id: str) -> Catalogue:
-    """The catalogue of a procedure (by its id, e.g. ``3964r``); :data:`EMPTY` if it has none."""
-    for c in catalogues():
-        if c.procedure == procedure_id:
-            return c
-    return EMPTY
+    """Every catalogue of the procedures ptpcert knows (one per procedure that has one)."""
+    return tuple(c for c in (for_procedure(p) for p in registry.procedures()) if c is not EMPTY)
 
 
 def for_rule(rule_id: str) -> Catalogue | None:
@@ -238,5 +242,5 @@ def for_rule(rule_id: str) -> Catalogue | None:
     return None
 
 
-__all__ = ["Catalogue", "CatalogueError", "DIMENSIONS", "EMPTY", "READING_GRADES", "Reading", "Rule",
+__all__ = ["Catalogue", "CatalogueError", "EMPTY", "READING_GRADES", "Reading", "Rule",
            "catalogues", "for_procedure", "for_rule", "parse"]

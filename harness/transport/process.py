@@ -26,6 +26,7 @@ import tty
 import weakref
 
 from .. import priority
+from ..model import parmrk as marking
 from .base import BREAK, CHAR_ERROR, RESTART, STATUS, CloseInfo, IUTDied, StatusParser, Transport, TransportError
 
 _LIVE: "weakref.WeakSet[ProcessTransport]" = weakref.WeakSet()
@@ -111,7 +112,7 @@ class ProcessTransport(Transport):
 
     # -- line -----------------------------------------------------------------------
     def _encode(self, data: bytes) -> bytes:
-        return data.replace(b"\xff", b"\xff\xff") if self.parmrk else data
+        return marking.encode(data) if self.parmrk else data
 
     def _write_raw(self, data: bytes) -> float:
         t = self.now()
@@ -135,14 +136,12 @@ class ProcessTransport(Transport):
     def send_break(self, duration: float) -> float:
         if not self.parmrk:
             raise TransportError(f"{self.url}: BREAK needs an IUT that reads PARMRK marking")
-        return self._write_raw(b"\xff\x00\x00")
+        return self._write_raw(marking.BREAK_MARK)
 
     def send_char_error(self, byte: int) -> float:
         if not self.parmrk:
             raise TransportError(f"{self.url}: character errors need an IUT that reads PARMRK marking")
-        if byte == 0:
-            byte = 0x80  # FF 00 00 would read as BREAK; a corrupted 00 is shown with bit 7 set
-        return self._write_raw(bytes([0xFF, 0x00, byte]))
+        return self._write_raw(marking.error_mark(byte))
 
     def read(self, deadline: float) -> list[tuple[float, int]]:
         if self._eof:

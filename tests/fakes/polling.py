@@ -11,7 +11,7 @@ import select
 import sys
 import time
 
-from ptpcert.iut import ParmrkDecoder
+from ptpcert.model.parmrk import ParmrkDecoder
 from ptpcert.model.app import Host
 from ptpcert.model.events import Status
 from ptpcert.procedures.p3964.model.params import Params3964

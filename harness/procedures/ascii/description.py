@@ -168,8 +168,10 @@ def iut_command(params: AsciiParams, *, mutant: str | None = None, python: str |
     return " ".join(shlex.quote(w) for w in words)
 
 
-class PAscii(Procedure):
+class AsciiProcedure(Procedure):
     id = "ascii"
+    rank = 30
+    suite = "ptpcert.conformance.ascii"
     title = "ASCII driver"
     names = ("ASCII",)
     tables = ("ascii",)
@@ -184,6 +186,9 @@ class PAscii(Procedure):
     setups = ("slow_reader", "send_job")
 
     # -- profiles and parameters ----------------------------------------------------------
+    def reference_profile(self, **settings: Any):
+        return reference_profile(**settings)
+
     def profile_keys(self) -> tuple[str, ...]:
         return IUT_KEYS
 
@@ -430,8 +435,8 @@ class PAscii(Procedure):
         return MUTANTS
 
     def fuzz_kit(self):
-        from ptpcert.procedures.ascii.fuzz import KIT_ASCII
-        return KIT_ASCII
+        from .fuzz import FUZZ_KIT
+        return FUZZ_KIT
 
 
-__all__ = ["PAscii", "GROUPS", "echo_frames", "parse_codes", "parse_jobs", "BAUD_RATES"]
+__all__ = ["AsciiProcedure", "GROUPS", "echo_frames", "parse_codes", "parse_jobs", "BAUD_RATES"]

@@ -43,6 +43,7 @@ from ptpcert.procedures.p3964.model import codec
 from ptpcert.procedures.p3964.model import table as T
 from ptpcert.procedures.p3964.model.params import T_BLOCK, T_NAKTIM
 from ptpcert.procedures.p3964.model.readings import READINGS
+from ptpcert.rules import for_procedure
 from ptpcert.procedures.p3964.model.station import Station3964
 
 STX, DLE, ETX, NAK = codec.STX, codec.DLE, codec.ETX, codec.NAK
@@ -562,7 +563,7 @@ class Analyzer3964(ProcedureAnalyzer):
 
     def _catalogued(self, rule_id: str, code: int | None = None, cause: Cause | None = None) -> Cause:
         """The rule ``rule_id`` of the catalogue as the rule broken (before ``cause``'s, if given)."""
-        r = self.procedure.rules().get(rule_id)
+        r = for_procedure(self.procedure).get(rule_id)
         if cause is None:
             return Cause("reply", r.text.rstrip("."), r.ref, 0.0, 0.0, code, rules=(rule_id,))
         return Cause(cause.kind, r.text.rstrip("."), _joined(r.ref, cause.reference), cause.early, cause.late,

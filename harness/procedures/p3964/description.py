@@ -9,13 +9,13 @@ from ptpcert.model.app import Host
 from ptpcert.model.errors import ParameterError
 from ptpcert.model.hexbytes import hexstr, parse_hex
 from ptpcert.model.line import BAUD_RATES
-from ptpcert.procedure import Mutant, Procedure, ProcedureError
+from ptpcert.procedure import MacroStep, Mutant, Procedure, ProcedureError
 from ptpcert.procedures.p3964.model import codec
 from ptpcert.procedures.p3964.model.params import T_BLOCK, T_NAKTIM, Params3964
 from ptpcert.procedures.p3964.model.station import Station3964
 
 #: [iut] keys of a 3964/3964R profile and the parameter each sets (defaults where optional)
-_KEYS = {
+LINK_KEYS = {
     "priority": "priority", "character_delay_ms": "cdt_ms", "acknowledgement_delay_ms": "adt_ms",
     "setup_attempts": "setup_attempts", "transmission_attempts": "transmission_attempts",
     "baud_rate": "baud_rate", "data_bits": "data_bits", "parity": "parity", "stop_bits": "stop_bits",
@@ -42,16 +42,35 @@ def link_values(iut: dict[str, Any]) -> dict[str, Any]:
         raise ProcedureError("iut.baud_rate", f"{values['baud_rate']!r} is not allowed; allowed values: "
                              + ", ".join(map(str, BAUD_RATES)))
     return values
-_KEY_OF = {v: k for k, v in _KEYS.items()}
+_KEY_OF = {v: k for k, v in LINK_KEYS.items()}
+
+#: the macro step the 3964 and RK 512 vectors use to hand the IUT a block as a conforming
+#: sender: the tester's STX ``at`` after the reference point, the IUT's DLE, the block, its DLE
+PRIME = MacroStep(keys=frozenset({"at", "note"}), max_data=codec.MAX_BLOCK)
+
+def reference_profile(**overrides: Any):
+    """The profile of ``ptpcert iut`` (3964R, low priority, CDT and ADT 20 ms, 6 attempts,
+    echo, PARMRK, STATUS on stderr) with these [iut] keys changed: for tests, the kill
+    matrix, benchmarks and the traceability matrix."""
+    from ptpcert.profile import profile_from_dict
+
+    base = dict(procedure="3964R", priority="low", character_delay_ms=20,
+                acknowledgement_delay_ms=20, setup_attempts=6, transmission_attempts=6,
+                send_trigger="echo", line_conditions="parmrk", status_from_stderr=True)
+    base.update(overrides)
+    xf = base.pop("expected_failures", {})
+    return profile_from_dict({"iut": base, "expected_failures": xf})
+
 
 GROUPS = ("start-up", "character-frame", "idle", "receive", "send", "release", "repetition", "conflict",
           "break", "character-error", "timing", "regression")
 
 
-class P3964(Procedure):
-    id = "3964r"
+class P3964Procedure(Procedure):
+    id = "p3964"
+    rank = 10
     title = "3964/3964R"
-    names = ("3964", "3964R")
+    names = ("3964R", "3964")
     groups = GROUPS
     time_names = ("CDT", "ADT", "NAKTIM", "BLOCK")
     readings = tuple(f"A{i}" for i in range(1, 28))
@@ -70,22 +89,27 @@ class P3964(Procedure):
     #: no_buffer: the IUT's application never frees its receive buffer (Fig. 2-11), so an STX
     #: is answered with NAK after T_NAKTIM (16#080A); ``ptpcert iut --buffer full``
     setups = ("no_buffer",)
-    macro_steps = ("prime",)
+    #: prime: the tester delivers the payload as a conforming sender (STX, DLE, block, DLE)
+    macro_steps = {"prime": PRIME}
+    suite = "ptpcert.conformance.p3964"
 
     # -- profiles and parameters ----------------------------------------------------------
     def profile_keys(self) -> tuple[str, ...]:
-        return tuple(_KEYS)
+        return tuple(LINK_KEYS)
 
     def params_from_profile(self, iut: dict[str, Any], tables: dict[str, dict[str, Any]]) -> Params3964:
         values = link_values(iut)
         try:
-            return Params3964(procedure=values["procedure"], **{_KEYS[k]: values[k] for k in _KEYS})
+            return Params3964(procedure=values["procedure"], **{LINK_KEYS[k]: values[k] for k in LINK_KEYS})
         except ParameterError as exc:
             key = _KEY_OF.get(exc.name, exc.name)
             raise ProcedureError(f"iut.{key}", str(exc).replace(exc.name, key, 1)) from None
 
+    def reference_profile(self, **settings: Any):
+        return reference_profile(**settings)
+
     def profile_dict(self, params: Params3964) -> dict[str, Any]:
-        return {"procedure": params.procedure, **{k: getattr(params, p) for k, p in _KEYS.items()}}
+        return {"procedure": params.procedure, **{k: getattr(params, p) for k, p in LINK_KEYS.items()}}
 
     def params_from_table(self, raw: dict[str, Any]) -> Params3964:
         try:
@@ -277,22 +301,24 @@ class P3964(Procedure):
         from ptpcert.procedures.p3964.analysis import Analyzer3964
         return Analyzer3964(self, {"a": params_a, "b": params_b}, dict(apps or {}), late_ms)
     # -- the traceability matrix --------------------------------------------------------
-    def rule_settings(self) -> list[tuple[str, dict[str, Any], dict[str, Any]]]:
+    def rule_settings(self) -> list[tuple[str, dict[str, Any], Any]]:
         """Both variants in both priorities with the default 8-bit frame, and 3964R with a
         7-bit frame, each at the bundled reference's timers."""
-        base = {"procedure": "3964R", "priority": "low", "character_delay_ms": 20, "acknowledgement_delay_ms": 20,
-                "setup_attempts": 6, "transmission_attempts": 6, "send_trigger": "echo",
-                "line_conditions": "parmrk", "status_from_stderr": True}
         out = []
         for proc, prio, bits in (("3964R", "low", 8), ("3964R", "high", 8), ("3964", "low", 8),
                                  ("3964", "high", 8), ("3964R", "low", 7)):
             values = {"procedure": proc, "priority": prio, "data_bits": bits}
             label = f"{proc} {prio}" + ("" if bits == 8 else f" {bits} data bits")
-            out.append((label, values, {**base, **values}))
+            out.append((label, values, reference_profile(**values)))
         return out
 
     def setting_values(self, params: Params3964) -> dict[str, Any]:
         return {"procedure": params.procedure, "priority": params.priority, "data_bits": params.data_bits}
+
+    def chart(self):
+        """The transition table of Figs. 2-9 to 2-12, as text and drawn (:mod:`.chart`)."""
+        from . import chart
+        return chart
 
     # -- broken variants and fuzzing ------------------------------------------------------
     def mutants(self) -> Mapping[str, Mutant]:
@@ -300,5 +326,5 @@ class P3964(Procedure):
         return mutants.MUTANTS
 
     def fuzz_kit(self):
-        from ptpcert.fuzz import KIT_3964
-        return KIT_3964
+        from .fuzz import FUZZ_KIT
+        return FUZZ_KIT

@@ -32,8 +32,8 @@ from dataclasses import fields
 from typing import Any, Mapping
 
 from ptpcert.model.errors import ParameterError
-from ptpcert.procedure import Mutant, Procedure, ProcedureError
-from ptpcert.procedures.p3964.description import _KEYS, link_values
+from ptpcert.procedure import MacroStep, Mutant, Procedure, ProcedureError
+from ptpcert.procedures.p3964.description import LINK_KEYS, PRIME, link_values
 from ptpcert.procedures.p3964.model import codec
 from ptpcert.procedures.p3964.model.params import T_BLOCK, T_NAKTIM, Params3964
 
@@ -56,6 +56,8 @@ _LINE_FIELDS = tuple(f.name for f in fields(Params3964) if f.init and f.name != 
 _RK_FIELDS = ("link", "response_time_ms", "roles", "requests", "memory", "db_range", "dx_range", "db_bytes",
               "byte_area_bytes", "cell_area_cells")
 _EMPTY_SCRIPT = "requests-none.txt"
+RECEIVE = MacroStep(keys=frozenset({"after", "within", "optional", "absent_grade", "or", "or_grade", "since", "note"}),
+                    max_data=codec.MAX_BLOCK, defaults={"within": "ADT"})
 
 
 def describe_frame(frame: bytes) -> str:
@@ -116,8 +118,9 @@ def _line_matches(pattern: str, line: str) -> bool:
     return False
 
 
-class Rk512(Procedure):
+class Rk512Procedure(Procedure):
     id = "rk512"
+    rank = 20
     title = "RK 512"
     names = ("RK512",)
     tables = ("rk512",)
@@ -129,13 +132,17 @@ class Rk512(Procedure):
     #: the application {reset_ms} ms after it was set (§6.3.2 "Using interprocessor
     #: communication flags")
     setups = ("cpu_stop", "flag_set")
-    macro_steps = ("prime", "receive")
+    #: prime: the tester delivers a frame as a conforming 3964(R) sender; receive: the IUT
+    #: sends one (or one of ``or``) and the tester receives it as a conforming receiver (the
+    #: IUT's STX in [after, within], within ADT unless the vector says otherwise)
+    macro_steps = {"prime": PRIME, "receive": RECEIVE}
+    suite = "ptpcert.conformance.rk512"
     #: RK 512 IUTs are made to send by requests, not by echo
     send_triggers = ("none",)
 
     # -- profiles and parameters ----------------------------------------------------------
     def profile_keys(self) -> tuple[str, ...]:
-        return tuple(_KEYS)
+        return tuple(LINK_KEYS)
 
     def params_from_profile(self, iut: dict[str, Any], tables: dict[str, dict[str, Any]]):
         from ptpcert.procedures.rk512.model import Rk512Params
@@ -144,9 +151,9 @@ class Rk512(Procedure):
         link = table.get("link", "3964R")
         if link not in ("3964R", "3964"):
             raise ProcedureError("rk512.link", f"{link!r} is not allowed; allowed values: \"3964R\", \"3964\"")
-        key_of = {v: k for k, v in _KEYS.items()}
+        key_of = {v: k for k, v in LINK_KEYS.items()}
         try:
-            line = Params3964(procedure=link, **{_KEYS[k]: values[k] for k in _KEYS})
+            line = Params3964(procedure=link, **{LINK_KEYS[k]: values[k] for k in LINK_KEYS})
         except ParameterError as exc:
             key = key_of.get(exc.name, exc.name)
             raise ProcedureError(f"iut.{key}", str(exc).replace(exc.name, key, 1)) from None
@@ -159,7 +166,7 @@ class Rk512(Procedure):
 
     def profile_dict(self, params: Any) -> dict[str, Any]:
         line = params.line
-        return {"procedure": self.names[0], **{k: getattr(line, p) for k, p in _KEYS.items()},
+        return {"procedure": self.names[0], **{k: getattr(line, p) for k, p in LINK_KEYS.items()},
                 "rk512": params.to_dict()}
 
     def params_from_table(self, raw: dict[str, Any]):
@@ -457,18 +464,38 @@ class Rk512(Procedure):
         depth 1, §2.2.3 'Quasi-full-duplex'), judged by the model's own RK 512 layer
         (:mod:`ptpcert.procedures.rk512_analysis`). The memory behind a station is not on the
         line: data values are not judged."""
-        from ptpcert.procedures.p3964.description import P3964
+        from ptpcert.procedures.p3964.description import P3964Procedure
         from ptpcert.procedures.rk512.analysis import Rk512Analyzer
-        return Rk512Analyzer(P3964(), {"a": params_a, "b": params_b}, late_ms)
+        return Rk512Analyzer(P3964Procedure(), {"a": params_a, "b": params_b}, late_ms)
 
     # -- broken variants and fuzzing ------------------------------------------------------
+    # -- ptpcert status -------------------------------------------------------------------
+    def add_status_arguments(self, group) -> None:
+        from .status import add_arguments
+        add_arguments(group)
+
+    def status_command(self, args) -> int | None:
+        from .status import command
+        return command(args)
+
+    def status_notes(self, code: int) -> list[str]:
+        """The error number a responder's class-06 event answers with, or the numbers that
+        raise a requester's class-09 event (Table 8-3)."""
+        from ptpcert.status import lookup
+
+        from .status import reatel_of
+        if "RK 512" not in lookup(code).protocols:
+            return []
+        line = reatel_of(code)
+        return [line] if line else []
+
     def mutants(self) -> Mapping[str, Mutant]:
         from ptpcert.procedures.rk512.mutants import MUTANTS
         return MUTANTS
 
     def fuzz_kit(self):
-        from ptpcert.procedures.rk512.fuzz import KIT_RK512
-        return KIT_RK512
+        from .fuzz import FUZZ_KIT
+        return FUZZ_KIT
 
 
 def decode_blocks(transcript: list[dict[str, Any]], bcc: bool) -> list[dict[str, Any]]:

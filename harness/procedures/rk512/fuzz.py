@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from hypothesis import reject
 from hypothesis import strategies as st
 
-from ptpcert.fuzz import FuzzKit, _ms, _send_receive_codes
+from ptpcert.fuzz.kit import FuzzKit, ms, send_receive_codes
 from ptpcert.model.codes import Code
 from ptpcert.procedures.p3964.model import codec as link
 from ptpcert.procedures.rk512.model.codec import REATEL_STATUS, Kind, classify, describe
@@ -37,7 +37,7 @@ from ptpcert.scenario import Expected, Expr, StatusSpec, Step, Vector
 
 STX, DLE, ETX, NAK = 0x02, 0x10, 0x03, 0x15
 CHUNK = 128
-_LINK_CODES = _send_receive_codes("RK 512") | _send_receive_codes("3964(R)")
+_LINK_CODES = send_receive_codes("RK 512") | send_receive_codes("3964(R)")
 _CLASS06 = frozenset(range(0x0601, 0x0613))
 INFORMATIONAL = frozenset({0x0701, 0x0801, 0x0702, 0x0815})
 
@@ -112,7 +112,7 @@ class RkCoSim:
 
     def send(self, data: bytes, at: float = 0.0, at_expr: Expr | None = None, gap: float = 0.0, note: str = "") -> None:
         self._write(bytes(data), at, gap)
-        self.steps.append(Step("send", bytes(data), at=at_expr or _ms(at), gap=_ms(gap), note=note))
+        self.steps.append(Step("send", bytes(data), at=at_expr or ms(at), gap=ms(gap), note=note))
 
     def window(self, d: float) -> Expr:
         """The window for an IUT reply that the model sent ``d`` after the reference point:
@@ -161,7 +161,7 @@ class RkCoSim:
             frame = link.parse_body(raw, self.p.procedure)
             no = attempt < refuse
             self._write(bytes([NAK if no else DLE]))
-            after = _ms(min(0.0, d - 2 * self.char))
+            after = ms(min(0.0, d - 2 * self.char))
             note = _rule_of(frame)
             if dle_at or refuse:
                 self.steps += [
@@ -198,7 +198,7 @@ class RkCoSim:
             last = nb[0]
             self.pos += 1
         self.ref = last
-        self.steps.append(Step("expect", bytes(got), after=_ms(min(0.0, d - 2 * self.char)),
+        self.steps.append(Step("expect", bytes(got), after=ms(min(0.0, d - 2 * self.char)),
                                within=Expr(f"{max(1000 * d, 0):.3f}ms + ADT"),
                                note="§2.2.2 (the link below RK 512): the IUT's answer on the line"))
         return bytes(got)
@@ -272,7 +272,7 @@ class RkGenerator:
     """Draws one RK 512 example, co-simulated with the model."""
 
     def __init__(self, profile, max_actions: int = 6, readings=RK512_READINGS):
-        from ptpcert.procedures import by_id
+        from ptpcert.registry import by_id
 
         self.profile = profile
         self.proc = by_id("rk512")
@@ -464,7 +464,7 @@ class RkExample:
             raise RuntimeError("the model did not acknowledge a conforming block")
         sim.pos += 1
         sim.ref = nb[0]
-        sim.steps.append(Step("prime", bytes(frame), at=at_expr or _ms(at), note=f"the tester sends {describe(frame)}"))
+        sim.steps.append(Step("prime", bytes(frame), at=at_expr or ms(at), note=f"the tester sends {describe(frame)}"))
         return True
 
     def _frame_out_raw(self, frame: bytes, at: float, at_expr, how: str) -> bool:
@@ -679,7 +679,7 @@ class RkExample:
         sim.pos += 1
         d = t_stx - sim.ref
         sim.ref = t_stx
-        sim.steps.append(Step("expect", bytes([STX]), after=_ms(min(0.0, d - 2 * sim.char)), within=sim.window(d),
+        sim.steps.append(Step("expect", bytes([STX]), after=ms(min(0.0, d - 2 * sim.char)), within=sim.window(d),
                               note="the IUT's STX"))
         req = self.gen._valid_command(data, single=True)
         self._note_areas(req)
@@ -866,6 +866,6 @@ ALTERNATIVE_READINGS = [
     ("N7", dict(n7_pipelined_command_aborts=False)),
 ]
 
-KIT_RK512 = FuzzKit(RkGenerator, RK512_READINGS, tuple(ALTERNATIVE_READINGS), check_reports=True)
+FUZZ_KIT = FuzzKit(RkGenerator, RK512_READINGS, tuple(ALTERNATIVE_READINGS), check_reports=True)
 
-__all__ = ["KIT_RK512", "RkCoSim", "RkGenerator", "RkExample", "ALTERNATIVE_READINGS"]
+__all__ = ["FUZZ_KIT", "RkCoSim", "RkGenerator", "RkExample", "ALTERNATIVE_READINGS"]

@@ -1,4 +1,5 @@
-"""The fuzzer, level 2: generated partner behaviour against an IUT, the model as oracle.
+"""The 3964/3964R fuzz kit, level 2: generated partner behaviour against an IUT, the model as
+oracle (the campaign is :mod:`ptpcert.fuzz.campaign`).
 
 For every example, hypothesis draws the tester's behaviour step by step while a model
 station plays the IUT in virtual time (co-simulation): what the tester does next depends on
@@ -27,42 +28,23 @@ from the step before that stimulus (``since = "mark"``), never with a negative o
 
 from __future__ import annotations
 
-import hashlib
-import time
-from dataclasses import dataclass, field, replace
-from pathlib import Path
-from typing import Callable
+from dataclasses import dataclass, replace
 
-from hypothesis import HealthCheck, Phase, assume, given, settings
-from hypothesis import seed as hseed
 from hypothesis import strategies as st
-from hypothesis.database import DirectoryBasedExampleDatabase
 
+from ptpcert.fuzz.kit import FuzzKit, ms, note_rule, send_receive_codes
+from ptpcert.model import events as ev
 from ptpcert.model.app import Host
-from ptpcert.procedures.p3964.model import codec
-from ptpcert.procedures.p3964.model import table as T
-from ptpcert.procedures.p3964.model.params import Params3964
-from ptpcert.procedures.p3964.model.readings import READINGS, Readings
-from ptpcert.procedures.p3964.model.station import Station3964
+from ptpcert.profile import Profile
+from ptpcert.registry import by_id
+from ptpcert.runner import Tolerance, realtime_tolerance
+from ptpcert.scenario import Expected, Expr, StatusSpec, Step, Vector
 
-from . import results as R
-from .model import events as ev
-from .profile import Profile
-from .runner import Runner, RunOptions, Tolerance, realtime_tolerance
-from .scenario import Expected, Expr, StatusSpec, Step, Vector, dump_vector
-
-# ------------------------------------------------------------------ settings profiles
-#: Settings profiles for both levels; they extend hypothesis's built-in "ci" profile.
-_CI = settings.get_profile("ci")
-settings.register_profile("ptpcert-quick", parent=_CI, max_examples=60, stateful_step_count=40,
-                          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
-                                                 HealthCheck.filter_too_much])
-settings.register_profile("ptpcert-thorough", parent=_CI, derandomize=False, max_examples=2000,
-                          stateful_step_count=120,
-                          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
-                                                 HealthCheck.filter_too_much])
-FUZZ_PROFILES = ("ptpcert-quick", "ptpcert-thorough")
-
+from .model import codec
+from .model import table as T
+from .model.params import Params3964
+from .model.readings import READINGS, Readings
+from .model.station import Station3964
 
 # ------------------------------------------------------------------ rules the expectations stand for
 #: every rule an expectation can name: the rows and decision outcomes of the table that send
@@ -78,6 +60,12 @@ def rule_for(actions: list[str], byte: int) -> str:
     records them): the rule and reference of the row or decision outcome that sends it."""
     element = T.rule_for(actions, byte)
     return UNEXPLAINED_RULE if element is None else T.rule_text(element)
+
+
+def rule_of_note(note: str) -> tuple[str, str]:
+    """The rule an expectation's note names (one of the table's, when a rule of the model
+    made it) and the STATUS codes it lists."""
+    return note_rule(note, _RULES)
 
 
 def _note(rule: str, codes) -> str:
@@ -108,8 +96,7 @@ class CoSim:
         # far as the tester's byte may go out late plus two characters; after it, as far as
         # the runner lets the IUT's timer act late (for the longer of CDT and ADT)
         if tolerance is None:
-            from ptpcert.procedures.p3964.description import P3964
-            tolerance = realtime_tolerance(P3964(), params)
+            tolerance = realtime_tolerance(by_id("p3964"), params)   # this procedure, as registered
         self.tol = tolerance
         floor = 0.15 * min(params.cdt, params.adt) + 2 * params.char_time
         self.edge_before = max(floor, tolerance.stimulus + tolerance.early + 2 * params.char_time)
@@ -240,27 +227,27 @@ class CoSim:
             arrive = start + k * (self.char + gap) + self.char
             self._input(arrive, "invalid" if kind == "send_error" else "byte", b)
         self.ref = self.sent_end = arrive
-        self._stimulus(Step(kind, bytes(data), at=_ms(at), gap=_ms(gap), note=note), violation)
+        self._stimulus(Step(kind, bytes(data), at=ms(at), gap=ms(gap), note=note), violation)
 
     def brk(self, duration: float, at: float = 0.0, violation: bool = False) -> None:
         t, at = self._start(at, violation)
         self._input(t, "break")
         self.advance(t + duration)
         self.ref = self.sent_end = t + duration
-        self._stimulus(Step("break", duration=_ms(duration), at=_ms(at), note="BREAK"), violation)
+        self._stimulus(Step("break", duration=ms(duration), at=ms(at), note="BREAK"), violation)
 
     def wait(self, d: float) -> None:
         end, d = self._start(d)
         self.advance(end)
         self.ref = end
-        self.steps.append(Step("wait", duration=_ms(d)))
+        self.steps.append(Step("wait", duration=ms(d)))
 
     def since_mark(self) -> tuple[float, int]:
         """The reference point before the last stimulus, marked in the vector (a zero wait
         at the start when the stimulus was the first step): what output that began while
         the stimulus was going out is measured from."""
         if self.mark_idx < 0:
-            self.steps.insert(0, Step("wait", duration=_ms(0.0), mark=True))
+            self.steps.insert(0, Step("wait", duration=ms(0.0), mark=True))
             self.violations = {i + 1 for i in self.violations}
             self.mark_idx = 0
         elif not self.steps[self.mark_idx].mark:
@@ -308,21 +295,21 @@ class CoSim:
                 mark_ref, _ = self.since_mark()
                 dm, stim = group[0].t - mark_ref, max(self.ref - mark_ref, 0.0)
                 since = "mark"
-                after = _ms(max(0.0, dm - 2 * char))
-                within = _ms(dm + 2 * char) if timed else Expr(f"{_ms(stim).text} + {reply_within.text}")
+                after = ms(max(0.0, dm - 2 * char))
+                within = ms(dm + 2 * char) if timed else Expr(f"{ms(stim).text} + {reply_within.text}")
             elif timed:
-                after, within = _ms(max(0.0, d - 2 * char)), _ms(d + 2 * char)
+                after, within = ms(max(0.0, d - 2 * char)), ms(d + 2 * char)
             else:
                 # a reply: any time up to the partner's timer (CDT for the first character of
                 # a block after the partner's DLE)
-                after, within = _ms(0.0), reply_within
+                after, within = ms(0.0), reply_within
             self.steps.append(Step("expect", data, after=after, within=within, note=note, since=since))
             self.ref = group[-1].t
             i = j
         if interrupted_rest:
             mark_ref, _ = self.since_mark()
-            self.steps.append(Step("expect", interrupted_rest, partial=True, since="mark", after=_ms(0.0),
-                                   within=Expr(f"{_ms(max(self.ref - mark_ref, 0.0)).text} + 4*CHAR"),
+            self.steps.append(Step("expect", interrupted_rest, partial=True, since="mark", after=ms(0.0),
+                                   within=Expr(f"{ms(max(self.ref - mark_ref, 0.0)).text} + 4*CHAR"),
                                    note="the IUT stops sending its block"))
 
     # -- the result ---------------------------------------------------------------
@@ -332,7 +319,7 @@ class CoSim:
         requires = {"echo"} if (self.uses_echo or self.delivered) and self.echo else set()
         codes = frozenset(self.codes) | {0x0701, 0x0801, 0x0815, 0x080C, 0x0802, 0x1E0D}
         return Vector(
-            id=vid, title=title, reference="§2.2; Figs. 2-5 to 2-12 (generated by ptpcert fuzz)", rule=rule,
+            procedure="p3964", id=vid, title=title, reference="§2.2; Figs. 2-5 to 2-12 (generated by ptpcert fuzz)", rule=rule,
             group="regression", iut_role="both", params=self.p, steps=tuple(self.steps),
             expected=Expected(StatusSpec((), codes | _ALL_3964_CODES), StatusSpec(), tuple(self.delivered),
                               tuple(self.sent), ()),
@@ -342,23 +329,8 @@ class CoSim:
         )
 
 
-def _send_receive_codes(protocol: str) -> frozenset[int]:
-    """Every send/receive event (classes 07 and 08) the catalogue lists for ``protocol``,
-    and the job abort of Table 8-2 (16#1E0D): what a fuzz example may see raised besides the
-    events it expects (the catalogue is the one list of codes)."""
-    from .model.codes import Code
-    from .status import catalogue
-    return frozenset({c for c, e in catalogue().items() if protocol in e.protocols and c >> 8 in (7, 8)}
-                     | {Code.ABORTED_BY_RESET})
-
-
-_ALL_3964_CODES = _send_receive_codes("3964(R)")
-
-
-def _ms(seconds: float) -> Expr:
-    if abs(seconds) < 1e-12:
-        return Expr("0")
-    return Expr(f"{seconds * 1000:.3f}ms")
+#: every send/receive event of 3964(R): what an example may see raised besides what it expects
+_ALL_3964_CODES = send_receive_codes("3964(R)")
 
 
 # ------------------------------------------------------------------ drawing the tester's behaviour
@@ -576,8 +548,8 @@ class Generator:
         # what may still come of the block is measured from its k-th byte (the mark before
         # the interruption): it may be on its way before the interruption has gone out
         mark_ref, _ = sim.since_mark()
-        sim.steps.append(Step("expect", body[k:], partial=True, since="mark", after=_ms(0.0),
-                              within=Expr(f"{_ms(max(stim - mark_ref, 0.0)).text} + 4*CHAR"),
+        sim.steps.append(Step("expect", body[k:], partial=True, since="mark", after=ms(0.0),
+                              within=Expr(f"{ms(max(stim - mark_ref, 0.0)).text} + 4*CHAR"),
                               note="§7.2 items 3-4, §7.6: the IUT stops sending its block"))
         if rest_sent:
             sim.ref = max(sim.ref, rest_sent[-1].t)
@@ -610,32 +582,6 @@ class Generator:
                 sim.advance(max(d, sim.t))
 
 
-# ------------------------------------------------------------------ the campaign
-@dataclass
-class Finding:
-    vector: Vector
-    result: R.CaseResult
-    rule: str
-    status: str
-
-    def describe(self) -> str:
-        r = self.result
-        lines = [f"FINDING {self.vector.id}: {self.rule}",
-                 f"  STATUS involved: {self.status or 'none'}",
-                 f"  {r.message}"]
-        lines.append("  transcript (shrunk):")
-        for s in self.vector.steps:
-            d = s.to_toml()
-            lines.append("    " + ", ".join(f"{k} = {v}" for k, v in d.items()))
-        return "\n".join(lines)
-
-
-class _Found(Exception):
-    def __init__(self, finding: Finding):
-        self.finding = finding
-        super().__init__(finding.rule)
-
-
 ALTERNATIVE_READINGS = [
     ("A6", dict(a6_second_final_nak=True)),
     ("A7", dict(a7_quiet_wait_retriggered=False)),
@@ -651,462 +597,5 @@ ALTERNATIVE_READINGS = [
 ]
 
 
-@dataclass
-class Campaign:
-    profile: Profile
-    runner: Runner
-    budget: float
-    seed: int
-    settings_profile: str = "ptpcert-quick"
-    database: str | None = None
-    progress: Callable[[str], None] | None = None
-    max_actions: int = 6
-    examples: int = 0
-    informational: int = 0
-    #: findings dropped because their exported vector, replayed, did not fail
-    not_reproduced: int = 0
-    #: failing examples not judged: the tester's deliberate interruption of the IUT's block
-    #: may have reached the IUT only after the block (the harness was late), see late_violation
-    void: int = 0
-    findings: list[Finding] = field(default_factory=list)
-    started: float = 0.0
-    #: examples whose exchange lasts longer are skipped (None: 2 s + 40 x the longest timer,
-    #: which keeps out the 4 s T_BLOCK waits at short timers; level 1 covers those)
-    max_case_seconds: float | None = None
-    _unshrunk: Finding | None = None
-    _shrink_until: float = 0.0
-    #: divergences already tried against the other readings (shrinking meets them again)
-    _explained: dict = field(default_factory=dict)
-    #: one of ``workers`` example streams (see :func:`run_workers`): round ``r`` of worker
-    #: ``i`` is seeded ``seed + r * workers + i``, so that the workers' rounds never repeat
-    #: one another and one worker's are a serial campaign's
-    worker: int = 0
-    workers: int = 1
 
-    def _run_vector(self, v: Vector) -> R.CaseResult:
-        return self.runner.run_case(v)
-
-    def _release(self) -> None:
-        """Stop the IUT processes the transport started ahead, where it does."""
-        release = getattr(self.runner.factory, "release", None)
-        if release is not None:
-            release()
-
-    @property
-    def kit(self) -> "FuzzKit":
-        kit = self.profile.procedure.fuzz_kit()
-        if kit is None:
-            raise ValueError(f"ptpcert fuzz has no strategies for {self.profile.procedure.title} yet")
-        return kit
-
-    def run(self) -> list[Finding]:
-        proc, p = self.profile.procedure, self.profile.params
-        if self.max_case_seconds is None:
-            self.max_case_seconds = 2.0 + 40 * max(proc.edge_timers(p))
-        self.started = time.monotonic()
-        end = self.started + self.budget
-        rnd = 0
-        seen_rules: set[str] = set()
-        db = open_database(self.database)
-        base = settings.get_profile(self.settings_profile)
-        over = False
-        while time.monotonic() < end and not over:
-            gen = self.kit.generator(self.profile, self.max_actions)
-            campaign = self
-            round_seed = self.seed + rnd * self.workers + self.worker
-
-            # settings outside seed: hypothesis's seed() turns the database off
-            @settings(base, max_examples=25, database=db, deadline=None, print_blob=False,
-                      phases=[Phase.generate, Phase.shrink] if db is None else list(Phase))
-            @hseed(round_seed)
-            @given(st.data())
-            def example(data):
-                nonlocal over
-                now = time.monotonic()
-                if campaign._unshrunk is None and now >= end:
-                    # generating: the budget is spent. The example passes without a draw, so
-                    # hypothesis ends the round; raising here would make it a failure, which
-                    # hypothesis shrinks and saves in the example database, where a later
-                    # campaign would replay it first as if it were a finding
-                    over = True
-                    return
-                if campaign._unshrunk is not None and now >= max(end, campaign._shrink_until):
-                    campaign._release()        # no IUT is needed any more in this round
-                    return                     # shrinking has had its time: keep what it has
-                sim = gen(data)
-                # examples that make the IUT wait out T_BLOCK (4 s) cost more real time than
-                # they are worth here; level 1 covers those paths in virtual time
-                assume(sim.t <= campaign.max_case_seconds)
-                digest = hashlib.sha256(repr([s.to_toml() for s in sim.steps]).encode()).hexdigest()[:10]
-                v = sim.vector(f"FUZZ.{digest.upper()}", "fuzz example", "")
-                campaign.examples += 1
-                res = campaign._run_vector(v)
-                if res.verdict != R.FAIL:
-                    return
-                # confirm: real time can glitch once (virtual time cannot)
-                virtual = getattr(campaign.runner.factory, "virtual", False)
-                res2 = res if virtual else campaign._run_vector(v)
-                if res2.verdict != R.FAIL:
-                    return
-                # in real time, what the IUT saw of a deliberate interruption is judged first
-                if not virtual and late_violation(v, res2, interruptions(v), campaign.profile.params.char_time):
-                    campaign.void += 1     # the IUT may have seen the interruption after its block
-                    return
-                alt = campaign._alternative(v, res2)
-                if alt:
-                    campaign.informational += 1
-                    return
-                rule, status = _divergent_rule(v, res2)
-                found = Finding(v, res2, rule, status)
-                if campaign._unshrunk is None:
-                    campaign._shrink_until = time.monotonic() + max(10.0, 0.25 * campaign.budget)
-                if campaign._unshrunk is None or len(v.steps) < len(campaign._unshrunk.vector.steps):
-                    campaign._unshrunk = found
-                raise _Found(found)
-
-            self._unshrunk = None
-            try:
-                example()
-            except Exception as exc:
-                # a real IUT may not repeat a divergence while hypothesis shrinks it
-                # (Flaky): keep the smallest failing example seen, unshrunk
-                found = exc if isinstance(exc, _Found) else (_Found(self._unshrunk) if self._unshrunk else None)
-                if found is None:
-                    if time.monotonic() >= end:
-                        break      # hypothesis noticed the budget ending mid-round: nothing lost
-                    if self.progress:
-                        self.progress(f"round {rnd}: {type(exc).__name__}: {str(exc)[:300]}")
-                    rnd += 1
-                    continue
-                finding = found.finding
-                key = finding_key(finding)
-                if key not in seen_rules:
-                    rid = hashlib.sha256(dump_vector(finding.vector).encode()).hexdigest()[:8].upper()
-                    vec = replace(finding.vector, id=f"FUZZ.{rid}", title=f"Fuzz finding: {finding.rule}",
-                                  rule=f"{finding.rule} (found by ptpcert fuzz, seed {round_seed})")
-                    finding.vector = vec
-                    if self.reproduces(finding):
-                        seen_rules.add(key)
-                        self.findings.append(finding)
-                        if self.progress:
-                            self.progress(finding.describe())
-                    else:
-                        self.not_reproduced += 1
-                        if self.progress:
-                            self.progress(f"not reproduced (dropped): {finding.vector.id}: {finding.rule}; "
-                                          "its exported vector passed on replay")
-            finally:
-                self._release()   # between rounds no IUT waits: each is started for its example
-            rnd += 1
-            if self.progress:
-                self.progress(f"[{time.monotonic() - self.started:6.1f} s] examples {self.examples}, "
-                              f"findings {len(self.findings)}, explained by another reading {self.informational}, "
-                              f"not reproduced {self.not_reproduced}, void (interruption late) {self.void}")
-        return self.findings
-
-    def reproduces(self, finding: Finding) -> bool:
-        """A finding stands only if the vector as exported (written out as TOML and read
-        back, as ``ptpcert run --vectors`` reads it) fails under the runner on replay; its
-        result then becomes the finding's."""
-        from .scenario import load_vector_text
-        try:
-            v = load_vector_text(dump_vector(finding.vector), f"<{finding.vector.id}>")
-        except ValueError:
-            return False   # a vector that cannot be read back cannot stand as a finding
-        try:
-            res = self._run_vector(v)
-        finally:
-            self._release()
-        if res.verdict != R.FAIL:
-            return False
-        finding.result = res
-        return True
-
-    def _alternative(self, v: Vector, res: R.CaseResult) -> str | None:
-        """The open point of the manual (docs/readings.md) whose other reading explains the
-        divergence, if any: a model with that reading, run through the same vector, departs
-        from it at the same step in the same way as the IUT did."""
-        d0 = res.divergence
-        key = (d0.expected, d0.observed) if d0 is not None else res.message
-        if key not in self._explained:
-            self._explained[key] = self._try_alternatives(v, res)
-        return self._explained[key]
-
-    def _try_alternatives(self, v: Vector, res: R.CaseResult) -> str | None:
-        from .transport import sim_factory
-        proc = self.profile.procedure
-        app = "echo" if self.profile.echo else "none"
-        if app not in proc.apps():
-            app = proc.apps()[0]
-        for name, change in self.kit.alternatives:
-            readings = replace(self.kit.readings, **change)
-            factory = sim_factory(proc, {"app": app}, readings=readings)
-            alt = Runner(factory, self.profile, RunOptions(check_status=self.kit.check_reports)).run_case(v)
-            d = alt.divergence
-            if res.divergence is None:
-                # a divergence in what the IUT reported (STATUS, request results), not on the wire
-                if d is None and alt.verdict == R.FAIL and alt.message == res.message:
-                    return name
-            elif d is not None and d.step == res.divergence.step and d.observed == res.divergence.observed:
-                return name
-        return None
-
-def interruptions(v: Vector) -> set[int]:
-    """The steps of ``v`` that interrupt the IUT's block: a stimulus followed by the partial
-    expectation of what may still come of the block."""
-    return {i for i in range(len(v.steps) - 1)
-            if v.steps[i].kind in ("send", "send_error", "break") and v.steps[i + 1].kind == "expect"
-            and v.steps[i + 1].partial}
-
-
-def late_violation(v: Vector, res: R.CaseResult, violations, char: float) -> bool:
-    """Whether a failing example hinges on a deliberate violation that the IUT may have seen
-    only after its block had ended: the IUT sent the whole rest of the block it was meant to
-    stop (the partial expectation after the interruption was received to its end), and the
-    tester's records cannot prove that the interruption reached the IUT while the block was
-    still on the line (a paced block cannot end before the tester's last byte before it plus
-    one character time per byte). Then the oracle cannot judge what the IUT saw (the harness
-    read the IUT's bytes late and interrupted late): the example is void, not a finding.
-    Void too: the IUT stopped inside its block, but later than the window after the
-    interruption allows (how fast it stops is real time, not behaviour)."""
-    if not violations or res.divergence is None:
-        return False
-    steps = v.steps
-    events = R.wire_events(res.transcript)
-    for i in sorted(violations):
-        if i >= res.divergence.step or i + 1 >= len(steps) or i < 1:
-            continue
-        rest, before = steps[i + 1], steps[i - 1]
-        if not (rest.kind == "expect" and rest.partial and before.kind == "expect"):
-            continue
-        after = bytes(b for _, d, kind, b, k in events if d == "iut" and kind == "byte" and k >= i + 1)
-        if after[:len(rest.data)] != rest.data:
-            # the IUT stopped inside its block: it saw the interruption there; if it only
-            # stopped later than the window allows, that is its reaction time on a loaded
-            # machine (the suite's cases judge it), not a finding
-            if res.divergence.step == i + 1:
-                return True
-            continue
-        sent = [t for t, d, _, _, k in events if d == "tester" and k == i]
-        first_iut = [t for t, d, _, _, k in events if d == "iut" and k == i - 1]
-        if not sent or not first_iut:
-            return True
-        released = [t for t, d, _, _, k in events if d == "tester" and t <= first_iut[0] and k < i - 1]
-        start = released[-1] if released else 0.0
-        end_at_least = start + (len(before.data) + len(rest.data)) * char
-        if sent[0] + 2 * char > end_at_least:
-            return True
-    return False
-
-
-def finding_key(f: Finding) -> str:
-    """Findings with the same key are one finding (the rule and what the model expected)."""
-    return f.rule + "|" + (f.result.divergence.expected if f.result.divergence else "")
-
-
-def open_database(spec: str | None):
-    """Hypothesis's example database for ``--database``: None for none; ``redis://HOST:PORT/DB``
-    (also ``rediss://``, ``unix://``) for a Redis server, through hypothesis's
-    ``RedisExampleDatabase`` (the ``hypothesis[redis]`` extra); otherwise a directory, which
-    may be on a disk that several machines share. Every process and machine that opens the
-    same database shares the campaign: failing examples saved by one are replayed (and
-    shrunk further) by the others."""
-    if not spec:
-        return None
-    if spec.startswith(("redis://", "rediss://", "unix://")):
-        try:
-            import redis
-            from hypothesis.extra.redis import RedisExampleDatabase
-        except ImportError:
-            raise ValueError(f"database {spec}: a Redis database needs the hypothesis[redis] extra "
-                             "(pip install 'hypothesis[redis]')") from None
-        return RedisExampleDatabase(redis.Redis.from_url(spec))
-    return DirectoryBasedExampleDatabase(spec)
-
-
-# ------------------------------------------------------------------ workers
-@dataclass(frozen=True)
-class WorkerSpec:
-    """What a worker process needs to set up its own IUT and campaign (picklable)."""
-    iut: str
-    profile: str
-    budget: float
-    seed: int
-    settings_profile: str = "ptpcert-quick"
-    database: str | None = None
-    max_actions: int = 6
-    workers: int = 1
-
-
-@dataclass
-class WorkersResult:
-    examples: int = 0
-    informational: int = 0
-    #: findings whose exported vector passed on replay, and examples voided by a late
-    #: interruption (see Campaign)
-    not_reproduced: int = 0
-    void: int = 0
-    findings: list[Finding] = field(default_factory=list)
-    elapsed: float = 0.0
-    #: workers that ended without their results: (worker, why)
-    errors: list[tuple[int, str]] = field(default_factory=list)
-    interrupted: bool = False
-
-
-def _worker_main(spec: WorkerSpec, index: int, queue) -> None:
-    """One worker process: its own IUT (a new instance of ``spec.iut``), its own campaign,
-    the shared example database; progress and results go to ``queue``."""
-    from .profile import load_profile
-    from .transport import make_factory
-
-    camp = factory = None
-    interrupted, error = False, ""
-    try:
-        profile = load_profile(spec.profile)
-        factory = make_factory(spec.iut, profile)
-        kit = profile.procedure.fuzz_kit()
-        check = bool(kit is not None and kit.check_reports and profile.status_from_stderr)
-        runner = Runner(factory, profile, RunOptions(check_status=check, late_ms=50.0))
-        camp = Campaign(profile, runner, spec.budget, spec.seed, spec.settings_profile, spec.database,
-                        progress=lambda line: queue.put(("progress", index, line)),
-                        max_actions=spec.max_actions, worker=index, workers=spec.workers)
-        camp.run()
-    except KeyboardInterrupt:
-        interrupted = True
-    except Exception as exc:   # reported by the parent as this worker's error
-        error = f"{type(exc).__name__}: {' '.join(str(exc).split())[:300]}"
-    finally:
-        if factory is not None:
-            try:
-                factory.shutdown()
-            except KeyboardInterrupt:
-                interrupted = True
-    queue.put(("done", index, camp.examples if camp else 0, camp.informational if camp else 0,
-               camp.findings if camp else [], interrupted, error,
-               camp.not_reproduced if camp else 0, camp.void if camp else 0))
-
-
-def run_workers(spec: WorkerSpec, progress: Callable[[str], None] | None = None) -> WorkersResult:
-    """``spec.workers`` campaigns at once, each in a process of its own with its own IUT,
-    all sharing ``spec.database`` (hypothesis's example database: a failing example one
-    worker saves is replayed and shrunk further by the others in their next round). Their
-    findings are merged (one per :func:`finding_key`) and their example counts added up."""
-    import multiprocessing as mp
-    import queue as queue_mod
-
-    ctx = mp.get_context("spawn")   # a fresh interpreter: no inherited threads or IUT pipes
-    q = ctx.Queue()
-    out = WorkersResult()
-    started = time.monotonic()
-    procs = {i: ctx.Process(target=_worker_main, args=(spec, i, q), name=f"ptpcert-fuzz-worker-{i}")
-             for i in range(spec.workers)}
-    for p in procs.values():
-        p.start()
-    pending = set(procs)
-    seen: set[str] = set()
-    grace_until = None
-    try:
-        while pending:
-            try:
-                msg = q.get(timeout=0.5)
-            except queue_mod.Empty:
-                for i in sorted(pending):
-                    if not procs[i].is_alive():     # ended without its results
-                        pending.discard(i)
-                        out.errors.append((i, f"the worker ended (exit status {procs[i].exitcode})"))
-                if grace_until is not None and time.monotonic() > grace_until:
-                    break
-                continue
-            except KeyboardInterrupt:
-                out.interrupted = True
-                grace_until = time.monotonic() + 15.0   # the workers stop and send what they have
-                continue
-            if msg[0] == "progress":
-                if progress:
-                    progress(f"[worker {msg[1]}] {msg[2]}")
-                continue
-            _, i, examples, informational, findings, interrupted, error, not_reproduced, void = msg
-            out.not_reproduced += not_reproduced
-            out.void += void
-            pending.discard(i)
-            out.errors = [e for e in out.errors if e[0] != i]   # its results came after all
-            out.examples += examples
-            out.informational += informational
-            out.interrupted = out.interrupted or interrupted
-            if error:
-                out.errors.append((i, error))
-            for f in findings:
-                if finding_key(f) not in seen:
-                    seen.add(finding_key(f))
-                    out.findings.append(f)
-    finally:
-        for i, p in procs.items():
-            p.join(timeout=5.0 if i not in pending else 0.1)
-            if p.is_alive():
-                p.terminate()
-                p.join(timeout=5.0)
-                out.errors.append((i, "stopped: no results"))
-    out.elapsed = time.monotonic() - started
-    return out
-
-
-def _divergent_rule(v: Vector, res: R.CaseResult) -> tuple[str, str]:
-    from .scenario import expand
-    steps = expand(v)   # the divergence's step counts the expanded steps (macros unfolded)
-    if res.divergence is not None and 0 <= res.divergence.step < len(steps):
-        note = steps[res.divergence.step].note
-        if note:
-            return rule_of_note(note)
-    if res.divergence is not None and v.expected.echo_after and any(
-            w in (res.divergence.expected or "") for w in ("echo", "block(s)")):
-        return "the frames (blocks) sent back are those of a conforming IUT", ""
-    if res.divergence is None and res.message.startswith("reported: "):
-        return "the IUT's results of its requests follow from the exchange: " + res.message[10:], ""
-    if res.divergence is None and res.message.startswith("STATUS: "):
-        return "the IUT reports the STATUS events the exchange raises: " + res.message[8:], res.message[8:]
-    return "after the exchange the line stays quiet (no spurious bytes)", ""
-
-
-def rule_of_note(note: str) -> tuple[str, str]:
-    """The rule an expectation's note names (one of the table's, when a rule of the model
-    made it) and the STATUS codes it lists."""
-    rule = next((r for r in _RULES if note.startswith(r)), None)
-    if rule is None:   # a note the generator wrote itself ("the IUT stops sending its block")
-        rule = note.partition(" [STATUS ")[0]
-    codes = note[len(rule):].strip()
-    if codes.startswith("[STATUS ") and codes.endswith("]"):
-        return rule, codes[len("[STATUS "):-1]
-    return rule, ""
-
-
-def export(findings: list[Finding], directory: str | Path) -> list[Path]:
-    d = Path(directory)
-    d.mkdir(parents=True, exist_ok=True)
-    out = []
-    for f in findings:
-        path = d / f"{f.vector.id.lower().replace('.', '-')}.toml"
-        header = (f"Found by ptpcert fuzz: {f.rule}\nSTATUS involved: {f.status or 'none'}\n"
-                  f"Divergence: {f.result.message}")
-        path.write_text(dump_vector(f.vector, header=header), "utf-8")
-        out.append(path)
-    return out
-
-
-# ------------------------------------------------------------------ what a procedure brings
-@dataclass(frozen=True)
-class FuzzKit:
-    """A procedure's fuzz strategies and oracle: ``generator(profile, max_actions)`` draws
-    an example (co-simulated with the model, which is the oracle) and returns an object
-    with ``t`` (its length in time), ``steps`` and ``vector(id, title, rule)``; each of
-    ``alternatives`` names an open point and the change of ``readings`` that takes its other
-    reading, so a divergence that reading explains is not reported as a finding."""
-
-    generator: Callable
-    readings: object
-    alternatives: tuple[tuple[str, dict], ...]
-    #: the examples' expectations include what the IUT reports (STATUS and, for RK 512, the
-    #: request results): the campaign checks them where the profile says the IUT reports
-    check_reports: bool = False
-
-
-KIT_3964 = FuzzKit(Generator, READINGS, tuple(ALTERNATIVE_READINGS))
+FUZZ_KIT = FuzzKit(Generator, READINGS, tuple(ALTERNATIVE_READINGS), rule_of_note=rule_of_note)

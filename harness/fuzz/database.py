@@ -1,0 +1,26 @@
+"""Hypothesis's example database for a campaign (``ptpcert fuzz --database``): none, a
+directory (on a disk several machines may share) or a Redis server."""
+
+from __future__ import annotations
+
+from hypothesis.database import DirectoryBasedExampleDatabase
+
+
+def open_database(spec: str | None):
+    """Hypothesis's example database for ``--database``: None for none; ``redis://HOST:PORT/DB``
+    (also ``rediss://``, ``unix://``) for a Redis server, through hypothesis's
+    ``RedisExampleDatabase`` (the ``hypothesis[redis]`` extra); otherwise a directory, which
+    may be on a disk that several machines share. Every process and machine that opens the
+    same database shares the campaign: failing examples saved by one are replayed (and
+    shrunk further) by the others."""
+    if not spec:
+        return None
+    if spec.startswith(("redis://", "rediss://", "unix://")):
+        try:
+            import redis
+            from hypothesis.extra.redis import RedisExampleDatabase
+        except ImportError:
+            raise ValueError(f"database {spec}: a Redis database needs the hypothesis[redis] extra "
+                             "(pip install 'hypothesis[redis]')") from None
+        return RedisExampleDatabase(redis.Redis.from_url(spec))
+    return DirectoryBasedExampleDatabase(spec)
