@@ -154,6 +154,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any, Iterable
 
+from .model.line import LineSettings
+
 JSON_FORMAT = "ptpcert-capture/1"
 HEXLOG_MAGIC = "ptpcert-hexlog"
 HEXLOG_VERSION = 1
@@ -215,62 +217,45 @@ class CaptureError(ValueError):
 # ------------------------------------------------------------------ the model
 
 
-@dataclass(frozen=True)
-class LineSettings:
-    """The character frame on the line. ``baud_rate=None``: not known (or a simulation
-    without line timing)."""
+def checked_line(line: LineSettings) -> LineSettings:
+    """``line``, when it is a frame a UART can have (see
+    :meth:`~ptpcert.model.line.LineSettings.problem`); else a :class:`CaptureError` saying
+    what is wrong."""
+    problem = line.problem()
+    if problem is not None:
+        raise CaptureError(problem)
+    return line
 
-    baud_rate: int | None = None
-    data_bits: int = 8
-    parity: str = "none"
-    stop_bits: int = 1
 
-    PARITIES = {"none": "N", "odd": "O", "even": "E", "mark": "M", "space": "S"}
+#: The JSON fields of line settings, each with the value a reader takes when a file omits
+#: it: no baud rate and an 8N1 frame (not :class:`~ptpcert.model.line.LineSettings`' own
+#: defaults, which are the reference profile's 9600 8E1).
+LINE_DEFAULTS: dict[str, Any] = {"baud_rate": None, "data_bits": 8, "parity": "none", "stop_bits": 1}
 
-    def __post_init__(self) -> None:
-        if self.baud_rate is not None and (not isinstance(self.baud_rate, int) or isinstance(self.baud_rate, bool)
-                                           or self.baud_rate <= 0):
-            raise CaptureError(f"baud rate {self.baud_rate!r} is not a positive whole number")
-        if self.data_bits not in (5, 6, 7, 8):
-            raise CaptureError(f"data bits {self.data_bits!r}: 5, 6, 7 or 8")
-        if self.parity not in self.PARITIES:
-            raise CaptureError(f"parity {self.parity!r}: one of {', '.join(self.PARITIES)}")
-        if self.stop_bits not in (1, 2):
-            raise CaptureError(f"stop bits {self.stop_bits!r}: 1 or 2")
 
-    @property
-    def bits_per_char(self) -> int:
-        return 1 + self.data_bits + (0 if self.parity == "none" else 1) + self.stop_bits
+def line_to_dict(line: LineSettings) -> dict[str, Any]:
+    """Line settings as a JSON object (the fields of :data:`LINE_DEFAULTS`, in that order)."""
+    return {k: getattr(line, k) for k in LINE_DEFAULTS}
 
-    @property
-    def char_time(self) -> float | None:
-        """Seconds one character takes on the line (None without a baud rate)."""
-        return None if self.baud_rate is None else self.bits_per_char / self.baud_rate
 
-    def __str__(self) -> str:
-        baud = "-" if self.baud_rate is None else str(self.baud_rate)
-        return f"{baud} {self.data_bits}{self.PARITIES[self.parity]}{self.stop_bits}"
+def line_from_dict(d: Any) -> LineSettings:
+    """Line settings from their JSON object, omitted fields as :data:`LINE_DEFAULTS` says;
+    a :class:`CaptureError` when ``d`` is no object or the settings are no frame."""
+    try:
+        values = {k: d.get(k, v) for k, v in LINE_DEFAULTS.items()}
+    except AttributeError:
+        raise CaptureError(f"line settings must be an object, not {d!r}") from None
+    return checked_line(LineSettings(**values))
 
-    @classmethod
-    def parse(cls, text: str) -> "LineSettings":
-        """``"9600 8E1"`` (``-`` for no baud rate)."""
-        m = re.fullmatch(r"\s*(\d+|-)\s+([5-8])([NOEMSnoems])([12])\s*", text)
-        if not m:
-            raise CaptureError(f"line settings {text.strip()!r} are not of the form '9600 8E1' "
-                               "(baud rate or -, data bits, parity N/O/E/M/S, stop bits)")
-        parity = {v: k for k, v in cls.PARITIES.items()}[m.group(3).upper()]
-        return cls(None if m.group(1) == "-" else int(m.group(1)), int(m.group(2)), parity, int(m.group(4)))
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"baud_rate": self.baud_rate, "data_bits": self.data_bits, "parity": self.parity,
-                "stop_bits": self.stop_bits}
-
-    @classmethod
-    def from_dict(cls, d: dict[str, Any]) -> "LineSettings":
-        try:
-            return cls(d.get("baud_rate"), d.get("data_bits", 8), d.get("parity", "none"), d.get("stop_bits", 1))
-        except AttributeError:
-            raise CaptureError(f"line settings must be an object, not {d!r}") from None
+def parse_line(text: str) -> LineSettings:
+    """Line settings from the header's ``line:`` value, ``BAUD DATABITS PARITY STOPBITS``
+    as in ``9600 8E1`` (``-`` for no baud rate); a :class:`CaptureError` otherwise."""
+    try:
+        line = LineSettings.parse(text)
+    except ValueError as exc:
+        raise CaptureError(str(exc)) from None
+    return checked_line(line)
 
 
 def _time(t: Any, what: str = "time") -> float:
@@ -369,6 +354,8 @@ class Capture:
         self.chunks = _merged(sorted(self.chunks, key=lambda c: c.t))  # stable: equal times keep their order
         self.marks = sorted(self.marks, key=lambda m: m.t)
         self.seats = dict(self.seats)
+        if self.line is not None:
+            checked_line(self.line)
         if set(self.seats) != set(SEATS):
             raise CaptureError(f"seats must name a and b, not {sorted(self.seats)}")
         for s, name in self.seats.items():
@@ -482,7 +469,7 @@ def to_dict(cap: Capture) -> dict[str, Any]:
         "format": JSON_FORMAT,
         "start": _iso(cap.start),
         "end": cap.end,
-        "line": None if cap.line is None else cap.line.to_dict(),
+        "line": None if cap.line is None else line_to_dict(cap.line),
         "seats": dict(cap.seats),
         "notes": list(cap.notes),
         "marks": [{"t": m.t, "text": m.text} for m in cap.marks],
@@ -513,7 +500,7 @@ def from_dict(d: Any, source: str = "") -> Capture:
         marks = [Mark(m.get("t"), str(m.get("text", ""))) for m in d.get("marks", [])]
         line = d.get("line")
         return Capture(chunks, d.get("seats") or {"a": "a", "b": "b"},
-                       None if line is None else LineSettings.from_dict(line),
+                       None if line is None else line_from_dict(line),
                        _parse_start(d.get("start")), d.get("end"), list(d.get("notes", [])), marks)
     except CaptureError as exc:
         raise CaptureError(exc.message, source) from None
@@ -656,7 +643,7 @@ def _line_of_params(params: dict[str, Any]) -> LineSettings | None:
     if not params or "data_bits" not in params:
         return None
     try:
-        return LineSettings.from_dict({k: params.get(k) for k in ("baud_rate", "data_bits", "parity", "stop_bits")})
+        return line_from_dict({k: params.get(k) for k in LINE_DEFAULTS})
     except CaptureError:
         return None
 
@@ -732,7 +719,7 @@ def to_results(cap: Capture, case_id: str = "capture"):
     c = R.CaseResult(case_id, "a capture converted to a transcript", "", "", CAPTURE_GROUP, "",
                      verdict=R.NOT_RUN, message="not judged: converted from a capture")
     c.transcript = to_transcript(cap)
-    c.params = {} if cap.line is None else cap.line.to_dict()
+    c.params = {} if cap.line is None else line_to_dict(cap.line)
     c.notes = list(cap.notes)
     return R.RunResult(tool_version=__version__, started=_iso(cap.start) or "", iut=cap.seats["b"],
                        cases=[c])
@@ -849,7 +836,7 @@ def read_hexlog(text: str | IO[str], source: str = "") -> Capture:
                     if key == "start":
                         start = _parse_start(value)
                     elif key == "line":
-                        line = LineSettings.parse(value)
+                        line = parse_line(value)
                     elif key == "note":
                         notes.append(value)
                     else:
