@@ -12,6 +12,7 @@ from __future__ import annotations
 import datetime as dt
 import io
 import json
+import re
 import shutil
 import struct
 import subprocess
@@ -25,6 +26,7 @@ from hypothesis import strategies as st
 from ptpcert import capture as C
 from ptpcert.cli import main as cli_main
 from ptpcert.model.events import Delivered
+from ptpcert.model.line import PARITY_LETTERS, LineSettings
 from ptpcert.procedures.p3964.model import codec
 from ptpcert.procedures.p3964.model.params import Params3964
 from ptpcert.procedures.p3964.model.station import Station3964
@@ -130,13 +132,49 @@ def test_line_events_drive_a_model_station_that_delivers_the_block():
 
 
 def test_line_settings():
+    # the capture's line settings are the model's (ptpcert.model.line), in the notation 9600 8E1
+    assert C.LineSettings is LineSettings
     assert CHAR == pytest.approx(11 / 9600)
-    assert str(LINE) == "9600 8E1" and C.LineSettings.parse("9600 8e1") == LINE
-    assert C.LineSettings.parse("- 7N2") == C.LineSettings(None, 7, "none", 2)
-    assert C.LineSettings(None).char_time is None
+    assert str(LINE) == "9600 8E1" and C.parse_line("9600 8e1") == LINE == LineSettings.parse("9600 8E1")
+    assert C.parse_line("- 7N2") == C.LineSettings(None, 7, "none", 2)
+    assert str(C.LineSettings(None, 5, "space", 2)) == "- 5S2"
+    assert C.LineSettings(None).char_time == 0.0     # no baud rate: no line timing
     for bad in ("9600", "9600 9E1", "fast 8E1", "9600 8X1"):
         with pytest.raises(C.CaptureError, match="9600 8E1"):
-            C.LineSettings.parse(bad)
+            C.parse_line(bad)
+        with pytest.raises(ValueError, match="9600 8E1"):
+            LineSettings.parse(bad)
+    with pytest.raises(C.CaptureError, match="baud rate 0 is not a positive whole number"):
+        C.parse_line("0 8E1")
+
+
+def test_a_capture_json_that_omits_line_settings_takes_no_baud_rate_and_8N1():
+    d = C.to_dict(C.Capture(line=LINE))
+    assert d["line"] == {"baud_rate": 9600, "data_bits": 8, "parity": "even", "stop_bits": 1}
+    d["line"] = {}
+    assert C.from_dict(d).line == C.LineSettings(None, 8, "none", 1)
+    d["line"] = {"baud_rate": 19200, "parity": "odd"}
+    assert C.from_dict(d).line == C.LineSettings(19200, 8, "odd", 1)
+    d["line"] = None
+    assert C.from_dict(d).line is None
+
+
+@pytest.mark.parametrize("line, msg", [
+    ({"baud_rate": 9600.0}, "baud rate 9600.0 is not a positive whole number"),
+    ({"baud_rate": True}, "baud rate True is not a positive whole number"),
+    ({"data_bits": 9}, "data bits 9: 5, 6, 7 or 8"),
+    ({"parity": "blue"}, "parity 'blue': one of none, odd, even, mark, space"),
+    ({"stop_bits": 3}, "stop bits 3: 1 or 2"),
+    ([9600, 8, "even", 1], "line settings must be an object"),
+])
+def test_a_capture_refuses_line_settings_no_uart_has(line, msg):
+    d = C.to_dict(C.Capture())
+    d["line"] = line
+    with pytest.raises(C.CaptureError, match="^cap.json: " + re.escape(msg)):
+        C.from_dict(d, "cap.json")
+    if isinstance(line, dict):
+        with pytest.raises(C.CaptureError, match=re.escape(msg)):
+            C.Capture(line=C.LineSettings(**{**C.LINE_DEFAULTS, **line}))
 
 
 @pytest.mark.parametrize("kw, msg", [
@@ -180,7 +218,7 @@ _chunks = st.one_of(
               st.sampled_from([C.Cond.OVERRUN, C.Cond.LOST])),
 )
 _lines = st.none() | st.builds(C.LineSettings, st.none() | st.sampled_from([300, 9600, 76800, 115200]),
-                               st.sampled_from([5, 6, 7, 8]), st.sampled_from(list(C.LineSettings.PARITIES)),
+                               st.sampled_from([5, 6, 7, 8]), st.sampled_from(list(PARITY_LETTERS)),
                                st.sampled_from([1, 2]))
 _starts = st.none() | st.datetimes(dt.datetime(1971, 1, 1), dt.datetime(2100, 1, 1),
                                    timezones=st.just(dt.timezone.utc))

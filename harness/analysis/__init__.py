@@ -1583,7 +1583,7 @@ def to_results(an: Analysis, *, started: str = "", profile: dict[str, Any] | Non
 
     line, kit, cap = an.line, an.kit, an.capture
     seats = dict(cap.seats)
-    run = R.RunResult(tool_version=__version__, started=started or (C._iso(cap.start) or ""),
+    run = R.RunResult(tool_version=__version__, started=started or (C.iso_time(cap.start) or ""),
                       iut=f"seat a: {seats['a']}, seat b: {seats['b']}", procedure=kit.procedure.title,
                       profile=dict(profile or {}), vector_set=f"capture {an.source}".strip())
     notes = list(notes)

@@ -181,12 +181,6 @@ def _finish(result, args, t0: float) -> int:
     return result.exit_status()
 
 
-def _settings(line):
-    """A procedure's line settings as a capture's."""
-    from ptpcert import capture as C
-    return C.LineSettings(line.baud_rate, line.data_bits, line.parity, line.stop_bits)
-
-
 # ------------------------------------------------------------------ analyze
 
 
@@ -239,7 +233,7 @@ def cmd_analyze(args) -> int:
     else:
         resolution = 0.0
     notes = []
-    ours = _settings(setup.proc.line(setup.params["b"]))
+    ours = setup.proc.line(setup.params["b"])
     if cap.line is not None and str(cap.line) != str(ours):
         notes.append(f"the capture says the line is {cap.line}; the analysis uses the profiles' {ours}")
     judged = _judged(args)
@@ -297,8 +291,7 @@ def cmd_monitor(args) -> int:
     seats = {"a": args.a, "b": args.b}
     listener = ConsoleListener(seats, quiet=args.quiet, every=True)
     line = A.LineAnalysis(setup.kit, judge=judged, resolution=resolution, listener=listener)
-    settings = _settings(line_b)
-    meta = C.Capture([], seats, settings, started, None,
+    meta = C.Capture([], seats, line_b, started, None,
                      [f"ptpcert monitor, timing resolution {resolution * 1000:.3f} ms"])
     try:
         mon = Monitor(args.a, args.b, line_b, parmrk=args.parmrk)
@@ -332,7 +325,7 @@ def cmd_monitor(args) -> int:
         signal.signal(signal.SIGINT, old_int)
         mon.close()
     line.close(end)
-    cap = C.Capture(list(line.chunks), seats, settings, started, end, list(meta.notes), list(line.marks))
+    cap = C.Capture(list(line.chunks), seats, line_b, started, end, list(meta.notes), list(line.marks))
     an = A.Analysis(line, cap, setup.kit, path)
     result = A.to_results(an, profile=setup.profile_dict(line.judged, resolution),
                           notes=[f"timing resolution {resolution * 1000:.3f} ms (timestamps taken when a read returned)"])
