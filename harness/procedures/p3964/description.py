@@ -14,39 +14,7 @@ from ptpcert.procedures.p3964.model import codec
 from ptpcert.procedures.p3964.model.params import T_BLOCK, T_NAKTIM, Params3964
 from ptpcert.procedures.p3964.model.station import Station3964
 
-#: [iut] keys of a 3964/3964R profile and the parameter each sets (defaults where optional)
-LINK_KEYS = {
-    "priority": "priority", "character_delay_ms": "cdt_ms", "acknowledgement_delay_ms": "adt_ms",
-    "setup_attempts": "setup_attempts", "transmission_attempts": "transmission_attempts",
-    "baud_rate": "baud_rate", "data_bits": "data_bits", "parity": "parity", "stop_bits": "stop_bits",
-}
-_REQUIRED = ("priority", "character_delay_ms", "acknowledgement_delay_ms", "setup_attempts",
-             "transmission_attempts")
-LINE_DEFAULTS = {"baud_rate": 9600, "data_bits": 8, "parity": "even", "stop_bits": 1}
-_CHOICES = {"priority": ("low", "high"), "parity": ("none", "odd", "even")}
-
-
-def link_values(iut: dict[str, Any]) -> dict[str, Any]:
-    """The profile's [iut] keys of the 3964(R) link, checked (each missing or refused key
-    named with what is allowed) and completed with the line's defaults."""
-    for key in _REQUIRED:
-        if key not in iut:
-            hint = f"one of {', '.join(_CHOICES[key])}" if key in _CHOICES else "required"
-            raise ProcedureError(f"iut.{key}", f"missing ({hint})")
-    values = {**LINE_DEFAULTS, **iut}
-    for key, choices in _CHOICES.items():
-        if values[key] not in choices:
-            raise ProcedureError(f"iut.{key}", f"{values[key]!r} is not allowed; allowed values: "
-                                 + ", ".join(f'"{c}"' for c in choices))
-    if values["baud_rate"] not in BAUD_RATES:
-        raise ProcedureError("iut.baud_rate", f"{values['baud_rate']!r} is not allowed; allowed values: "
-                             + ", ".join(map(str, BAUD_RATES)))
-    return values
-_KEY_OF = {v: k for k, v in LINK_KEYS.items()}
-
-#: the macro step the 3964 and RK 512 vectors use to hand the IUT a block as a conforming
-#: sender: the tester's STX ``at`` after the reference point, the IUT's DLE, the block, its DLE
-PRIME = MacroStep(keys=frozenset({"at", "note"}), max_data=codec.MAX_BLOCK)
+from .link import KEY_OF, LINK_KEYS, PRIME, block_end, link_values, prime_steps
 
 def reference_profile(**overrides: Any):
     """The profile of ``ptpcert iut`` (3964R, low priority, CDT and ADT 20 ms, 6 attempts,
@@ -102,7 +70,7 @@ class P3964Procedure(Procedure):
         try:
             return Params3964(procedure=values["procedure"], **{LINK_KEYS[k]: values[k] for k in LINK_KEYS})
         except ParameterError as exc:
-            key = _KEY_OF.get(exc.name, exc.name)
+            key = KEY_OF.get(exc.name, exc.name)
             raise ProcedureError(f"iut.{key}", str(exc).replace(exc.name, key, 1)) from None
 
     def reference_profile(self, **settings: Any):
@@ -171,16 +139,9 @@ class P3964Procedure(Procedure):
     def expand(self, step, params: Params3964) -> list:
         """``prime``: the tester delivers the payload as a conforming sender (STX, DLE,
         block, DLE)."""
-        from ptpcert.scenario import Expr, Step
-
         proc = params.procedure
-        note = step.note or f"the tester delivers {hexstr(step.data)} as a conforming sender"
-        return [
-            Step("send", bytes([codec.STX]), at=step.at, note=f"STX ({note})"),
-            Step("expect", bytes([codec.DLE]), within=Expr("ADT"), note="DLE: setup acknowledged"),
-            Step("send", codec.body(step.data, proc), note="block: data, DLE ETX" + (", BCC" if proc == "3964R" else "")),
-            Step("expect", bytes([codec.DLE]), within=Expr("ADT"), note="DLE: block acknowledged"),
-        ]
+        return prime_steps(step, proc, f"the tester delivers {hexstr(step.data)} as a conforming sender",
+                           f"block: data, {block_end(proc)}")
 
     # -- models ---------------------------------------------------------------------------
     def station(self, params: Params3964, *, name: str = "iut", mutant: str | None = None,

@@ -33,7 +33,7 @@ from typing import Any, Mapping
 
 from ptpcert.model.errors import ParameterError
 from ptpcert.procedure import MacroStep, Mutant, Procedure, ProcedureError
-from ptpcert.procedures.p3964.description import LINK_KEYS, PRIME, link_values
+from ptpcert.procedures.p3964.link import LINK_KEYS, PRIME, block_end, link_values, prime_steps
 from ptpcert.procedures.p3964.model import codec
 from ptpcert.procedures.p3964.model.params import T_BLOCK, T_NAKTIM, Params3964
 
@@ -231,15 +231,10 @@ class Rk512Procedure(Procedure):
         from ptpcert.scenario import Expr, Step
 
         proc = params.procedure
-        end = "DLE ETX" + (", BCC" if proc == "3964R" else "")
+        end = block_end(proc)
         if step.kind == "prime":
-            note = step.note or f"the tester sends {describe_frame(step.data)}"
-            return [
-                Step("send", bytes([codec.STX]), at=step.at, note=f"STX ({note})"),
-                Step("expect", bytes([codec.DLE]), within=Expr("ADT"), note="DLE: setup acknowledged"),
-                Step("send", codec.body(step.data, proc), note=f"block: {describe_frame(step.data)}; {end}"),
-                Step("expect", bytes([codec.DLE]), within=Expr("ADT"), note="DLE: block acknowledged"),
-            ]
+            return prime_steps(step, proc, f"the tester sends {describe_frame(step.data)}",
+                               f"block: {describe_frame(step.data)}; {end}")
         note = step.note or f"the IUT sends {describe_frame(step.data)}"
         alts = tuple(codec.body(a, proc) for a in step.alternatives)
         return [
@@ -462,11 +457,11 @@ class Rk512Procedure(Procedure):
         line reveals) and as RK 512 stations: what the frames say (command headers, Table 2-1;
         continuation frames; responses and their REATEL, Table 2-2, Table 8-3; T_RES; nesting
         depth 1, §2.2.3 'Quasi-full-duplex'), judged by the model's own RK 512 layer
-        (:mod:`ptpcert.procedures.rk512_analysis`). The memory behind a station is not on the
+        (:mod:`ptpcert.procedures.rk512.analysis`). The memory behind a station is not on the
         line: data values are not judged."""
-        from ptpcert.procedures.p3964.description import P3964Procedure
         from ptpcert.procedures.rk512.analysis import Rk512Analyzer
-        return Rk512Analyzer(P3964Procedure(), {"a": params_a, "b": params_b}, late_ms)
+        from ptpcert.registry import by_id
+        return Rk512Analyzer(by_id("p3964"), {"a": params_a, "b": params_b}, late_ms)
 
     # -- broken variants and fuzzing ------------------------------------------------------
     # -- ptpcert status -------------------------------------------------------------------
