@@ -149,7 +149,6 @@ class RunOptions:
     echo: bool = True                 # the IUT echoes received blocks (profile send_trigger)
     check_status: bool = True         # compare reported STATUS events (profile status_from_stderr)
     check_model_events: bool = False  # sim: also check deliveries and completed jobs
-    virtual: bool = False
     #: a failed real-time attempt is re-judged by the model fed the line as it was (see
     #: ptpcert.replay): a failure the harness's own timing explains is void, not the IUT's
     rejudge: bool = True
