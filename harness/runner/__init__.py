@@ -20,7 +20,6 @@ from ptpcert import results as R
 from ptpcert.driver import Endpoint, drive_station
 from ptpcert.model.events import Delivered, status_text
 from ptpcert.model.hexbytes import hexstr
-from ptpcert.procedures.p3964.model import codec
 from ptpcert.profile import Profile
 from ptpcert.scenario import Expr, Step, Vector, brief_hex, expand, names_in, timer_env
 from ptpcert.transport.base import (
@@ -203,7 +202,6 @@ class CaseRun:
         self.step_index = -1
         self.sent_end = self.t0
         self.mark_time = self.t0
-        self.partner_delivered: list[bytes] = []
         #: bytes an expect step passes over where it does not expect them
         self.skippable = frozenset(proc.interleaved(params))
         #: (data, bytes received) of the last partial expect step, for a step that resumes it
@@ -713,7 +711,6 @@ class CaseRun:
                     last = self.rx[-1][0]
             self.pos = len(self.rx)
             self.ref = self.tr.now()
-        self.t_steps = self.ref
         self.mark("start", t=self.rel(self.ref))
 
     def _await_ready(self) -> None:
@@ -776,8 +773,7 @@ class CaseRun:
     def _partner(self, step: Step) -> None:
         t0 = self.tr.now()
         limit = self.ref + self.ev(step.duration)
-        self.partner_delivered += self._play_partner(self.tp, limit, want=None,
-                                                     label="the tester plays a conforming partner")
+        self._play_partner(self.tp, limit, want=None, label="the tester plays a conforming partner")
         self.forced += self.tr.now() - t0  # the protocol's own retries decide how long this takes
 
     def _play_partner(self, params: Any, limit: float, want: int | None, label: str) -> list[bytes]:
