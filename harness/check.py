@@ -46,8 +46,7 @@ def _check_as_iut(v: Vector, mutant: str | None = None) -> list[CheckOutcome]:
             options["mutant"] = mutant
         url = "sim:?" + "&".join(f"{k}={x}" for k, x in options.items())
         runner = Runner(sim_factory(proc, options, url=url), None,
-                        RunOptions(echo=(app == "echo"), check_model_events=True, virtual=True,
-                                   startup_timeout=0.5))
+                        RunOptions(echo=(app == "echo"), check_model_events=True, startup_timeout=0.5))
         out.append(CheckOutcome(v, app, runner.run_case(v)))
     return out
 

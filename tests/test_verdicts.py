@@ -289,11 +289,11 @@ def _harness_never_waits_for_a_cpu(request, monkeypatch):
     time: the harness's own run-queue wait (the test process's, under whatever load the
     machine has) is not part of what they simulate. A test that wants it sets its own.
     Tests with real processes (marked realtime) measure the real one."""
-    import ptpcert.runner as runner_mod
+    import ptpcert.runner.disturbance as disturbance_mod
 
     if request.node.get_closest_marker("realtime"):
         return
-    monkeypatch.setattr(runner_mod, "OwnCpuWait", type("Waits", (_HarnessWaits,), {"jump": 0.0}))
+    monkeypatch.setattr(disturbance_mod, "OwnCpuWait", type("Waits", (_HarnessWaits,), {"jump": 0.0}))
 
 
 def run_stalled(case_id, factory, **options):
@@ -398,7 +398,7 @@ def test_an_iut_process_kept_from_a_cpu_past_its_cdt_is_repeated_not_failed():
 
 
 class _HarnessWaits:
-    """The harness thread's run-queue wait as ptpcert.runner.OwnCpuWait reads it: nothing,
+    """The harness thread's run-queue wait as ptpcert.runner.disturbance.OwnCpuWait reads it: nothing,
     then ``jump`` seconds at once from the ``at``-th look on (a harness runnable but kept
     from a CPU that long while the IUT's bytes arrived)."""
 
@@ -417,10 +417,10 @@ def test_a_harness_kept_from_a_cpu_is_its_own_stall(monkeypatch):
     in time by its clock: it stamped the IUT's bytes late. A defect seen in an attempt where
     the harness waited for a CPU as long as the IUT's shortest timer is an error, never a
     fail; where it did not wait, the same defect fails."""
-    import ptpcert.runner as runner_mod
+    import ptpcert.runner.disturbance as disturbance_mod
 
     waits = type("Waits", (_HarnessWaits,), {"jump": reference_profile().params.cdt + 0.010})
-    monkeypatch.setattr(runner_mod, "OwnCpuWait", waits)
+    monkeypatch.setattr(disturbance_mod, "OwnCpuWait", waits)
     res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(10 ** 6, 0.0, mutant="no-dle-undoubling"))
     assert res.verdict == "error" and "the harness was stalled" in res.message, (res.verdict, res.message)
     assert any("31 10 10 32 15 03" in n for n in res.notes), res.notes     # the failed attempt is kept
@@ -428,7 +428,7 @@ def test_a_harness_kept_from_a_cpu_is_its_own_stall(monkeypatch):
     res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(10 ** 6, 0.0))
     assert res.verdict == "pass", (res.verdict, res.message)
     # no wait: the defect fails
-    monkeypatch.setattr(runner_mod, "OwnCpuWait", type("Waits", (_HarnessWaits,), {"jump": 0.0}))
+    monkeypatch.setattr(disturbance_mod, "OwnCpuWait", type("Waits", (_HarnessWaits,), {"jump": 0.0}))
     res = run_stalled("3964R.FIG2-6.RECEIVE", starving_factory(10 ** 6, 0.0, mutant="no-dle-undoubling"))
     assert res.verdict == "fail" and "31 10 10 32 15 03" in res.message, res.message
 
@@ -527,7 +527,7 @@ def test_a_late_reply_counts_from_when_the_iuts_byte_may_have_left_it(floor_befo
 
     run = SimpleNamespace(
         ev=lambda e: e.eval({}), tester_char=0.001, ref=read, _ref_floor=(read, read - floor_before_read),
-        shortest=0.020, wait_until=lambda t: None, _stimulus=lambda: None, _record=lambda e: None,
+        shortest=0.020, wait_until=lambda t: None, _stimulus=lambda: None, record=lambda e: None,
         rel=lambda t: t, max_stall=0.0, tol=SimpleNamespace(stimulus=0.003), step_index=4, forced=0.0)
     step = SimpleNamespace(at=Expr("0ms"), gap=Expr("0ms"))
     if faults:
@@ -707,12 +707,12 @@ def test_a_partner_reply_late_to_a_slow_whole_block_iut_is_never_a_fail(tmp_path
     import time
 
     from ptpcert.profile import load_profile
-    from ptpcert.runner import RunOptions, Runner, _CaseEndpoint
+    from ptpcert.runner import CaseEndpoint, RunOptions, Runner
     from ptpcert.scenario import load_vector_sets
     from ptpcert.suite import load_suite
     from ptpcert.transport import make_factory
 
-    poll, blocks = _CaseEndpoint.poll, [0]
+    poll, blocks = CaseEndpoint.poll, [0]
 
     def busy(self, deadline):
         items = poll(self, deadline)
@@ -721,7 +721,7 @@ def test_a_partner_reply_late_to_a_slow_whole_block_iut_is_never_a_fail(tmp_path
             if blocks[0] <= busy_attempts:
                 time.sleep(0.015)
         return items
-    monkeypatch.setattr(_CaseEndpoint, "poll", busy)
+    monkeypatch.setattr(CaseEndpoint, "poll", busy)
     prof = load_profile(without_setups(tmp_path))
     (case,) = load_suite(prof, load_vector_sets(), select=["SUITE.RECEIVE.MAX-STUFFING"])
     factory = make_factory(f"exec:{PY} {FAKES / 'whole_block.py'} --lag-ms 8", prof)
