@@ -59,7 +59,7 @@ def add_commands(sub) -> None:
     r.add_argument("--tolerance-ms", type=TOLERANCE_MS, default=50.0,
                    help="how late a reply may be beyond its window, plus 25%% of the window (default 50; 0 to 10000)")
     r.add_argument("--startup-timeout", type=STARTUP_S, default=2.0,
-                   help="seconds a freshly started IUT may take before its start-up NAK (default 2; 0.1 to 600)")
+                   help="seconds a freshly started IUT may take before what it sends at start-up (default 2; 0.1 to 600)")
     r.add_argument("--edge-attempts", type=EDGE_ATTEMPTS, default=4, metavar="N",
                    help="attempts in all before a failure of a case close to a timer's edge stands; it passes "
                         "if one attempt passes (default 4; 1: every failure stands; at most 100)")

@@ -309,7 +309,7 @@ class CaseRun(PartnerPlay):
         self.grade = R.worse_grade(self.grade, grade)
 
     def _prime(self, step: Step) -> None:  # pragma: no cover - expanded before running
-        raise AssertionError("prime steps are expanded before the run")
+        raise AssertionError("a procedure's own steps are expanded before the run")
 
     _receive = _prime
 
