@@ -11,6 +11,8 @@ from pathlib import Path
 from ptpcert import priority
 from ptpcert.priority import MODES as PRIORITY_MODES
 
+from .common import load_profile, now
+
 #: schemes of ``--iut`` URLs whose transport starts a fresh IUT for every case
 _RESTARTING = ("exec:", "pty:", "sim:")
 _RUN_NOTE = re.compile(r"^run of \d+ cases? against (\S.*)$")
@@ -106,13 +108,12 @@ class Setup:
 
 
 def _setup(cmd: str, args) -> Setup | None:
-    from ptpcert.cli.run import _load_profile
 
-    base = _load_profile(cmd, args.profile)
+    base = load_profile(cmd, args.profile)
     if base is None:
         return None
-    prof_b = _load_profile(cmd, args.profile_b) if args.profile_b else base
-    prof_a = _load_profile(cmd, args.profile_a) if args.profile_a else None
+    prof_b = load_profile(cmd, args.profile_b) if args.profile_b else base
+    prof_a = load_profile(cmd, args.profile_a) if args.profile_a else None
     if prof_b is None or (args.profile_a and prof_a is None):
         return None
     proc = prof_b.procedure
@@ -163,10 +164,10 @@ class ConsoleListener:
 def _finish(result, args, t0: float) -> int:
     from ptpcert import report as rep
     from ptpcert import results as R
-    from ptpcert.cli.run import _now, write_reports
+    from ptpcert.cli.run import write_reports
 
     result.wall_time = round(time.monotonic() - t0, 3)
-    result.finished = _now()
+    result.finished = now()
     if args.html:
         result.html_path = args.html
     written = write_reports(result, args, args.command)

@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import datetime as _dt
 import os
 import signal
 import sys
 
 from ptpcert import __version__
-from ptpcert.cli import number
+from ptpcert.cli.common import load_profile, now, number
 from ptpcert.priority import MODES as PRIORITY_MODES
 
 #: the bounds of the numeric options (the messages name them)
@@ -216,7 +215,7 @@ def cmd_run(args) -> int:
     from ptpcert.suite import check_expected_failures, load_suite
     from ptpcert.transport import TransportError, make_factory
 
-    profile = _load_profile("run", args.profile)
+    profile = load_profile("run", args.profile)
     if profile is None:
         return 2
     if getattr(args, "priority", "normal") == "realtime":
@@ -246,7 +245,7 @@ def cmd_run(args) -> int:
     # --iut given several times is a pool (the same device twice is one device)
     urls = list(dict.fromkeys(u.strip() for u in ([args.iut] if isinstance(args.iut, str) else args.iut)))
     jobs = getattr(args, "jobs", 1)
-    result = R.RunResult(tool_version=__version__, started=_now(), iut=" | ".join(urls), procedure=profile.procedure.title,
+    result = R.RunResult(tool_version=__version__, started=now(), iut=" | ".join(urls), procedure=profile.procedure.title,
                          profile=profile.to_dict(), profile_path=str(args.profile),
                          vector_set=vector_set_label(args.vectors, args.vectors_only), vector_set_hash=vector_set_hash(cases),
                          html_path=args.html or "")
@@ -306,7 +305,7 @@ def cmd_run(args) -> int:
             mark_not_run(result, cases, R.NOT_RUN, "run interrupted")
         for _, f in pool:
             f.shutdown()
-        result.finished = _now()
+        result.finished = now()
         if interrupts.count:
             result.interrupted = True
         written = write_reports(result, args, "run")
@@ -393,17 +392,6 @@ def write_reports(result, args, cmd: str) -> set[str]:
     return written
 
 
-def _load_profile(cmd: str, path):
-    """The IUT profile, or None after telling why it is bad (the caller exits 2)."""
-    from ptpcert.profile import ProfileError, load_profile
-
-    try:
-        return load_profile(path)
-    except ProfileError as exc:
-        print(f"ptpcert {cmd}: bad profile: {exc}", file=sys.stderr)
-        return None
-
-
 def _connect(cmd: str, url: str, profile):
     """The transport factory for ``url``, checked by :func:`preflight`, or None after
     telling why the IUT cannot be reached (the caller exits 2)."""
@@ -451,7 +439,7 @@ def cmd_fuzz(args) -> int:
 
     register_profiles()
 
-    profile = _load_profile("fuzz", args.profile)
+    profile = load_profile("fuzz", args.profile)
     if profile is None:
         return 2
     seed = args.seed if args.seed is not None else random.SystemRandom().randrange(1, 2**31)
@@ -574,7 +562,3 @@ def cmd_report(args) -> int:
         if kind in written:
             print(f"{kind}: {getattr(args, kind)}")
     return 0 if len(written) == bool(args.html) + bool(args.junit) else 2
-
-
-def _now() -> str:
-    return _dt.datetime.now(_dt.timezone.utc).astimezone().isoformat(timespec="seconds")
