@@ -15,6 +15,7 @@ from ptpcert.model.codes import Code
 from ptpcert.procedure import Mutant
 from ptpcert.procedures.p3964.model.params import Params3964
 from ptpcert.procedures.p3964.model.station import Station3964
+from ptpcert.variants import patched, registrar
 
 from .model import table as T
 from .model.codec import DLE, ETX, MAX_BLOCK, NAK, STX, bcc
@@ -23,24 +24,7 @@ from .model.params import T_NAKTIM
 MUTANTS: dict[str, Mutant] = {}
 
 
-def mutant(name: str, rule: str, **profile):
-    def register(cls):
-        cls.__name__ = "Mutant_" + name.replace("-", "_")
-        MUTANTS[name] = Mutant(name, rule, cls, profile)
-        return cls
-    return register
-
-
-def _patched(table: dict, state: str, inp: str, row: T.Row) -> dict:
-    out = {s: dict(rows) for s, rows in table.items()}
-    out[state][inp] = row
-    return out
-
-
-def _patched_states(table: dict, states, inp: str, row: T.Row) -> dict:
-    for state in states:
-        table = _patched(table, state, inp, row)
-    return table
+mutant = registrar(MUTANTS)
 
 
 # ---------------------------------------------------------------- framing and BCC (send)
@@ -101,7 +85,7 @@ class _(Station3964):
 
 @mutant("dle-other-accepted", "Fig. 2-12 'characters except ETX, DLE'; Table 8-1 16#0805: DLE followed by another character is taken as data")
 class _(Station3964):
-    TABLE = _patched(T.TABLE, T.WAIT_ETX, T.OTHER, T.Row("store", T.RECEIVE))
+    TABLE = patched(T.TABLE, {(T.WAIT_ETX, T.OTHER): T.Row("store", T.RECEIVE)})
 
 
 @mutant("parity-error-ignored", "§2.2.2 Receive/receiving data; Fig. 2-12 'invalid character': a character with a parity error is taken as valid")
@@ -112,7 +96,7 @@ class _(Station3964):
 
 @mutant("parity-error-nak-at-once", "§2.2.2 Receive/receiving data; Fig. 2-12 'note NAK': a parity error inside a block is answered by NAK at once")
 class _(Station3964):
-    TABLE = _patched(T.TABLE, T.RECEIVE, T.INVALID, T.Row("note_invalid_character", T.NAK_CHECK))
+    TABLE = patched(T.TABLE, {(T.RECEIVE, T.INVALID): T.Row("note_invalid_character", T.NAK_CHECK)})
 
 
 @mutant("no-cdt-after-dle", "Table 8-1 16#0806: no timeout for the first character after the receiver's DLE")
@@ -126,7 +110,7 @@ class _(Station3964):
 
 @mutant("repetition-refused", "Fig. 2-11 'repetition expected'; Fig. 2-12 'STX': a repetition after NAK is not answered")
 class _(Station3964):
-    TABLE = _patched(T.TABLE, T.WAIT_REPETITION, T.STX, T.Row("ignore", T.SAME))
+    TABLE = patched(T.TABLE, {(T.WAIT_REPETITION, T.STX): T.Row("ignore", T.SAME)})
 
 
 # ---------------------------------------------------------------- idle and start-up
@@ -150,7 +134,7 @@ class _(Station3964):
 
 @mutant("nak-in-idle-answered", "§2.2.2 Receive/setup: a NAK in idle is treated as a stray character")
 class _(Station3964):
-    TABLE = _patched(T.TABLE, T.IDLE, T.NAK, T.Row("start_quiet_wait", T.IDLE_JUNK))
+    TABLE = patched(T.TABLE, {(T.IDLE, T.NAK): T.Row("start_quiet_wait", T.IDLE_JUNK)})
 
 
 # ---------------------------------------------------------------- attempts and acknowledgements (send)
@@ -231,7 +215,7 @@ class _(Station3964):
 
 @mutant("low-priority-insists", "§2.2.2 Initialization conflict; Fig. 2-10 'low priority': a low-priority station ignores the partner's STX", priority="low")
 class _(Station3964):
-    TABLE = _patched(T.TABLE, T.WAIT_SETUP_ACK, T.STX, T.Row("ignore", T.SAME))  # T_ADT keeps running
+    TABLE = patched(T.TABLE, {(T.WAIT_SETUP_ACK, T.STX): T.Row("ignore", T.SAME)})  # T_ADT keeps running
 
 
 # ---------------------------------------------------------------- BREAK
@@ -254,7 +238,7 @@ class _(Station3964):
 
 @mutant("retry-after-break", "Fig. 2-10 legend: a BREAK during sending is followed by a new attempt")
 class _(Station3964):
-    TABLE = _patched_states(T.TABLE, T.SENDER_STATES, T.BREAK, T.Row("abort_job", T.TX_CHECK))
+    TABLE = patched(T.TABLE, {(s, T.BREAK): T.Row("abort_job", T.TX_CHECK) for s in T.SENDER_STATES})
 
     def _a_abort_job(self, v):
         self._cancel_tx()
@@ -269,20 +253,20 @@ class _(Station3964):
 # SUITE.RECEIVE.DATA-DLE-THEN-ETX/-STX/-NAK
 @mutant("dle-pair-rescanned", "Fig. 2-12 'dual DLE': after a doubled data DLE the next character is read as if a DLE preceded it")
 class _(Station3964):
-    TABLE = _patched(T.TABLE, T.WAIT_ETX, T.DLE, T.Row("store_doubled_dle", T.WAIT_ETX))
+    TABLE = patched(T.TABLE, {(T.WAIT_ETX, T.DLE): T.Row("store_doubled_dle", T.WAIT_ETX)})
 
 
 # SUITE.RECEIVE.BCC-CHARACTER-ERROR
 @mutant("bcc-character-error-ignored", "Fig. 2-12 'invalid character': a BCC with a parity error is taken for its value")
 class _(Station3964):
-    TABLE = _patched(T.TABLE, T.WAIT_BCC, T.INVALID, T.Row("bcc_received", T.BCC_CHECK))
+    TABLE = patched(T.TABLE, {(T.WAIT_BCC, T.INVALID): T.Row("bcc_received", T.BCC_CHECK)})
 
 
 # SUITE.RECEIVE.CHARACTER-ERROR-AFTER-DATA-DLE
 @mutant("character-error-after-dle-nak-at-once",
         "Fig. 2-12 'wait for ETX', 'note NAK': a character error right after a data DLE is answered by NAK at once")
 class _(Station3964):
-    TABLE = _patched(T.TABLE, T.WAIT_ETX, T.INVALID, T.Row("note_invalid_character", T.NAK_CHECK))
+    TABLE = patched(T.TABLE, {(T.WAIT_ETX, T.INVALID): T.Row("note_invalid_character", T.NAK_CHECK)})
 
 
 # SUITE.RECEIVE.CHARACTER-ERROR-ON-ETX
@@ -308,7 +292,7 @@ class _(Station3964):
 # SUITE.SEND.DLE-DURING-DATA
 @mutant("dle-during-data-is-acknowledgement", "§2.2.2 Sending data: a DLE in the middle of the block is taken for the acknowledgement")
 class _(Station3964):
-    TABLE = _patched(T.TABLE, T.SEND_DATA, T.DLE, T.Row("dle_taken_as_acknowledgement", T.IDLE))
+    TABLE = patched(T.TABLE, {(T.SEND_DATA, T.DLE): T.Row("dle_taken_as_acknowledgement", T.IDLE)})
 
     def _a_dle_taken_as_acknowledgement(self, v):
         self._cancel_tx()
@@ -319,7 +303,7 @@ class _(Station3964):
 @mutant("stx-during-data-is-conflict", "§2.2.2 Sending data; §2.2.2 Initialization conflict: a STX during the block is taken for a conflict",
         priority="low")
 class _(Station3964):
-    TABLE = _patched(T.TABLE, T.SEND_DATA, T.STX, T.Row("conflict_during_data", T.RECEIVE_ENTRY))
+    TABLE = patched(T.TABLE, {(T.SEND_DATA, T.STX): T.Row("conflict_during_data", T.RECEIVE_ENTRY)})
 
     def _a_conflict_during_data(self, v):
         self._cancel_tx()
@@ -329,13 +313,13 @@ class _(Station3964):
 # SUITE.SEND.CHARACTER-ERROR-DURING-DATA
 @mutant("character-error-during-data-ignored", "§2.2.2 Sending data: a corrupted character during the block is ignored")
 class _(Station3964):
-    TABLE = _patched(T.TABLE, T.SEND_DATA, T.INVALID, T.Row("ignore", T.SAME))
+    TABLE = patched(T.TABLE, {(T.SEND_DATA, T.INVALID): T.Row("ignore", T.SAME)})
 
 
 # SUITE.SEND.QUIET-RESTARTS
 @mutant("sender-nak-per-character", "§2.2.2 Sending data: every further character during the quiet wait gets a NAK at once")
 class _(Station3964):
-    TABLE = _patched(T.TABLE, T.ABORT_QUIET, T.OTHER, T.Row("nak_now_and_wait_again", T.SAME))
+    TABLE = patched(T.TABLE, {(T.ABORT_QUIET, T.OTHER): T.Row("nak_now_and_wait_again", T.SAME)})
 
     def _a_nak_now_and_wait_again(self, v):
         self._send(bytes([NAK]))
@@ -345,7 +329,7 @@ class _(Station3964):
 # SUITE.IDLE.QUIET-RESTARTS
 @mutant("stray-nak-per-character", "§2.2.2 Receive/setup: every further stray character gets a NAK at once")
 class _(Station3964):
-    TABLE = _patched(T.TABLE, T.IDLE_JUNK, T.OTHER, T.Row("nak_now_and_wait_again", T.SAME))
+    TABLE = patched(T.TABLE, {(T.IDLE_JUNK, T.OTHER): T.Row("nak_now_and_wait_again", T.SAME)})
 
     def _a_nak_now_and_wait_again(self, v):
         self._a_quiet_nak(v)
@@ -527,7 +511,7 @@ class _(Station3964):
 # SUITE.RECEIVE.GARBAGE-DURING-BUFFER-WAIT
 @mutant("buffer-wait-garbage-accepted", "Table 8-1 16#0802: a character before the receiver's DLE makes it answer DLE")
 class _(Station3964):
-    TABLE = _patched(T.TABLE, T.WAIT_BUFFER, T.OTHER, T.Row("buffer_freed", T.RECEIVE))
+    TABLE = patched(T.TABLE, {(T.WAIT_BUFFER, T.OTHER): T.Row("buffer_freed", T.RECEIVE)})
 
 
 # SUITE.TIMING.GAP-AT-80-CDT-IN-DLE-PAIR
@@ -553,13 +537,13 @@ class _(Station3964):
 @mutant("partner-stx-refuses-setup", "Fig. 2-10 'high priority'; Table 8-1 16#0702: a high-priority station takes the partner's STX for a refused setup",
         priority="high")
 class _(Station3964):
-    TABLE = _patched(T.TABLE, T.WAIT_SETUP_ACK, T.STX, T.Row("setup_refused", T.SETUP_CHECK))
+    TABLE = patched(T.TABLE, {(T.WAIT_SETUP_ACK, T.STX): T.Row("setup_refused", T.SETUP_CHECK)})
 
 
 # SUITE.BREAK.* in the states not covered before
 def _break_ignored(name: str, state: str, rule: str, **profile) -> None:
     class BreakIgnored(Station3964):
-        TABLE = _patched(T.TABLE, state, T.BREAK, T.Row("ignore", T.SAME))
+        TABLE = patched(T.TABLE, {(state, T.BREAK): T.Row("ignore", T.SAME)})
     mutant(name, rule, **profile)(BreakIgnored)
 
 

@@ -19,16 +19,12 @@ from ptpcert.procedures.rk512.model.codec import CONTINUATION, FETCH, FIRST, HEA
 from ptpcert.procedures.rk512.model.events import Served
 from ptpcert.procedures.rk512.model.requests import Request, parse_line
 from ptpcert.procedures.rk512.model.table import PState
+from ptpcert.variants import registrar
 
 MUTANTS: dict[str, Mutant] = {}
 
 
-def mutant(name: str, rule: str, **profile):
-    def register(cls):
-        cls.__name__ = "Rk512Mutant_" + name.replace("-", "_")
-        MUTANTS[name] = Mutant(name, rule, cls, profile)
-        return cls
-    return register
+mutant = registrar(MUTANTS, prefix="Rk512Mutant_")
 
 
 class _Rewrite(Rk512Station):
