@@ -2,9 +2,10 @@
 
 They prove the RK 512 suite's detection power, in both roles: ``ptpcert iut --procedure
 RK512 --mutant NAME`` runs one in real time, ``sim:?mutant=NAME`` in virtual time. A
-variant is the reference station (:class:`ptpcert.model.rk512.Rk512Station`) with one
-action, check or frame changed; the ``link-`` variants put a broken 3964(R) link (a 3964
-variant of :mod:`ptpcert.mutants`) under a correct RK 512 layer.
+variant is the reference station (:class:`ptpcert.procedures.rk512.model.Rk512Station`) with
+one action, check or frame changed; the ``link-`` variants put a broken 3964(R) link (a 3964
+variant of :mod:`ptpcert.procedures.p3964.mutants`) under a correct RK 512 layer. They are
+entered with the registrar of :mod:`ptpcert.variants`.
 """
 
 from __future__ import annotations
