@@ -126,33 +126,33 @@ class _(_PerCause):
         self.count_cause("other")
 
 
-# SUITE.COUNTERS.SETUP-PER-JOB
-@mutant("setup-counter-never-reset", "Fig. 2-10 'send request', 'X := 1': a new job goes on with the setup counter of the last one")
-class _(Station3964):
+class _CarriedOver(Station3964):
+    """A job's attempt counter (``counter``: the job's ``x`` or ``w``) that a new job takes
+    over from the last one acknowledged instead of starting at 1."""
+    counter = "x"
+
     def _a_start_job(self, v):
-        carried = self.deferred is None and getattr(self, "last_x", None)
+        carried = self.deferred is None and getattr(self, "last_" + self.counter, None)
         super()._a_start_job(v)
         if carried:
-            self.job.x = carried
+            setattr(self.job, self.counter, carried)
 
     def _a_release_acknowledged(self, v):
-        self.last_x = self.job.x
+        setattr(self, "last_" + self.counter, getattr(self.job, self.counter))
         super()._a_release_acknowledged(v)
+
+
+# SUITE.COUNTERS.SETUP-PER-JOB
+@mutant("setup-counter-never-reset", "Fig. 2-10 'send request', 'X := 1': a new job goes on with the setup counter of the last one")
+class _(_CarriedOver):
+    counter = "x"
 
 
 # SUITE.COUNTERS.TRANSMISSION-PER-JOB
 @mutant("transmission-counter-never-reset",
         "Fig. 2-10 'send request', 'W := 1': a new job goes on with the transmission counter of the last one")
-class _(Station3964):
-    def _a_start_job(self, v):
-        carried = self.deferred is None and getattr(self, "last_w", None)
-        super()._a_start_job(v)
-        if carried:
-            self.job.w = carried
-
-    def _a_release_acknowledged(self, v):
-        self.last_w = self.job.w
-        super()._a_release_acknowledged(v)
+class _(_CarriedOver):
+    counter = "w"
 
 
 # SUITE.COUNTERS.SETUP-PER-ATTEMPT
