@@ -13,7 +13,7 @@ from ptpcert.procedures.p3964.model import table as T
 from ptpcert.procedures.p3964.model.codec import MAX_BLOCK
 from ptpcert.procedures.p3964.model.params import Params3964
 from ptpcert.procedures.p3964.model.station import Station3964
-from ptpcert.procedures.p3964.mutants import _Counting  # counts the data bytes and doubled DLEs of the block received
+from ptpcert.procedures.p3964.mutants import Counting  # counts the data bytes and doubled DLEs of the block received
 from ptpcert.transport import Factory
 from ptpcert.transport.sim import SimTransport
 
@@ -34,7 +34,7 @@ def factory(station_class, *, app: str = "echo", host_class=Host, buffer_free: b
     return Factory(make, SimTransport.capabilities, virtual=True)
 
 
-class CountsAfterDoubling(_Counting):
+class CountsAfterDoubling(Counting):
     """A17: the 1024-byte limit counts the bytes on the line, doubled DLEs twice: a block whose
     data take more than 1024 bytes after doubling is refused (16#0816)."""
 
@@ -52,7 +52,7 @@ class AcceptsOverlong(Station3964):
             super()._note(code)
 
 
-class SmallBuffer(_Counting):
+class SmallBuffer(Counting):
     """A17 and Table 8-1 16#0816 ('longer than agreed'): an agreed length of 256 bytes, and a
     NAK as soon as a block is longer than that; the rest of the block then comes as stray
     characters."""

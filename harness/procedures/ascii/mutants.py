@@ -20,6 +20,7 @@ from ptpcert.procedures.ascii.model import table as T
 from ptpcert.procedures.ascii.model.params import BUFFER_BYTES, MAX_FRAME
 from ptpcert.procedures.ascii.model.station import AsciiJob, Timer
 from ptpcert.procedures.ascii.model.table import FcInput, FcState, Row, RxInput, RxState, TxInput, TxState
+from ptpcert.variants import patched, registrar
 
 MUTANTS: dict[str, Mutant] = {}
 
@@ -29,24 +30,17 @@ FL = {"end_criterion": "fixed_length", "fixed_length": 8}
 XX = {"end_criterion": "end_chars", "end_chars": [0x03], "flow_control": "xon_xoff", "xon_wait_ms": 500}
 
 
-def mutant(name: str, rule: str, **profile):
-    def register(cls):
-        cls.__name__ = "Mutant_" + name.replace("-", "_")
-        MUTANTS[name] = Mutant(name, rule, lambda params, name="iut", cls=cls: cls(params, name=name), profile)
-        return cls
-    return register
+def _as_iut(cls):
+    """A variant's ``make(params, name="iut")``: only the parameters and the name are passed on."""
+    return lambda params, name="iut": cls(params, name=name)
 
 
-def _patched(tables: dict, rows: dict) -> dict:
-    """A copy of a transition table (state -> input -> row) with some rows replaced."""
-    out = {s: dict(r) for s, r in tables.items()}
-    for (state, inp), row in rows.items():
-        out[state][inp] = row
-    return out
+mutant = registrar(MUTANTS, make=_as_iut)
 
 
 def _patched_rx(rows: dict) -> dict:
-    return {crit: _patched(table, rows) for crit, table in T.RX_TABLES.items()}
+    """The receive tables of every end criterion, each with ``rows`` put in."""
+    return {crit: patched(table, rows) for crit, table in T.RX_TABLES.items()}
 
 
 # ---------------------------------------------------------------- receiving: the CDT
@@ -230,7 +224,7 @@ class _(AsciiStation):
 
 @mutant("xoff-ignored", "§2.2.4 'data flow control': a received XOFF does not stop the transmission", **XX)
 class _(AsciiStation):
-    TX_TABLE = _patched(T.TX_TABLE, {(s, TxInput.STOP): Row("ignore", T.SAME, "mutant") for s in TxState})
+    TX_TABLE = patched(T.TX_TABLE, {(s, TxInput.STOP): Row("ignore", T.SAME, "mutant") for s in TxState})
 
 
 @mutant("xon-wait-endless", "§2.2.4, Table 2-9, Table 8-1 (07)08H: the wait time for XON never runs out", **XX)
@@ -250,12 +244,12 @@ class _(AsciiStation):
 
 @mutant("no-xoff-when-full", "§2.2.4 'data flow control': no XOFF when the buffer reaches its threshold", **XX)
 class _(AsciiStation):
-    FC_TABLE = _patched(T.FC_TABLE, {(FcState.OPEN, FcInput.FULL): Row("ignore", T.SAME, "mutant")})
+    FC_TABLE = patched(T.FC_TABLE, {(FcState.OPEN, FcInput.FULL): Row("ignore", T.SAME, "mutant")})
 
 
 @mutant("no-xon-after-read", "§2.2.4 'data flow control': no XON once a read has made room after an XOFF", **XX)
 class _(AsciiStation):
-    FC_TABLE = _patched(T.FC_TABLE, {(FcState.HELD, FcInput.ROOM): Row("ignore", T.SAME, "mutant")})
+    FC_TABLE = patched(T.FC_TABLE, {(FcState.HELD, FcInput.ROOM): Row("ignore", T.SAME, "mutant")})
 
 
 # ---------------------------------------------------------------- the receive buffer

@@ -2,9 +2,10 @@
 
 They prove the RK 512 suite's detection power, in both roles: ``ptpcert iut --procedure
 RK512 --mutant NAME`` runs one in real time, ``sim:?mutant=NAME`` in virtual time. A
-variant is the reference station (:class:`ptpcert.model.rk512.Rk512Station`) with one
-action, check or frame changed; the ``link-`` variants put a broken 3964(R) link (a 3964
-variant of :mod:`ptpcert.mutants`) under a correct RK 512 layer.
+variant is the reference station (:class:`ptpcert.procedures.rk512.model.Rk512Station`) with
+one action, check or frame changed; the ``link-`` variants put a broken 3964(R) link (a 3964
+variant of :mod:`ptpcert.procedures.p3964.mutants`) under a correct RK 512 layer. They are
+entered with the registrar of :mod:`ptpcert.variants`.
 """
 
 from __future__ import annotations
@@ -19,16 +20,12 @@ from ptpcert.procedures.rk512.model.codec import CONTINUATION, FETCH, FIRST, HEA
 from ptpcert.procedures.rk512.model.events import Served
 from ptpcert.procedures.rk512.model.requests import Request, parse_line
 from ptpcert.procedures.rk512.model.table import PState
+from ptpcert.variants import registrar
 
 MUTANTS: dict[str, Mutant] = {}
 
 
-def mutant(name: str, rule: str, **profile):
-    def register(cls):
-        cls.__name__ = "Rk512Mutant_" + name.replace("-", "_")
-        MUTANTS[name] = Mutant(name, rule, cls, profile)
-        return cls
-    return register
+mutant = registrar(MUTANTS, prefix="Rk512Mutant_")
 
 
 class _Rewrite(Rk512Station):
