@@ -322,7 +322,7 @@ class Analyzer3964(ProcedureAnalyzer):
         """An STX right after a block was acknowledged: the end of one seat's block (DLE ETX,
         for 3964R the BCC after it; a run of DLEs before the ETX odd, so not data), the other
         seat's DLE, and nothing else before the STX."""
-        first, n = line._chunk_items[k]
+        first, n = line.chunk_items[k]
         seat = line.chunks[k].seat
         for j, it in enumerate(line.items[seat][first:first + n]):
             if it.kind == "byte" and it.value == STX and self._after_release(line.before(k, 8, j)):
