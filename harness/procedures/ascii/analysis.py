@@ -803,20 +803,9 @@ class AnalyzerAscii(ProcedureAnalyzer):
         return out + self._variants
 
     # -- reports --------------------------------------------------------------------------
-    def label(self, items) -> str:
-        """E.g. "a frame 41 42 <ETX> (end character), b frame 41 42 <ETX> (end character)"."""
-        runs: list[tuple[str, list]] = []
-        for seat, it in items:
-            if runs and runs[-1][0] == seat:
-                runs[-1][1].append(it)
-            else:
-                runs.append((seat, [it]))
-        words = [f"{seat} {self._describe(seat, its)}" for seat, its in runs]
-        text = ", ".join(words)
-        return text if len(text) <= 160 else text[:157] + "..."
-
-    def _describe(self, seat: str, its: list) -> str:
-        """A seat's characters as the other seat's receiver delimits them."""
+    def describe(self, seat: str, its: list) -> str:
+        """A seat's characters as the other seat's receiver delimits them, e.g. "frame 41 42 <ETX>
+        (3 bytes, end character)" (see :meth:`label`)."""
         rx = self.params[OTHER[seat]]
         parts: list[str] = []
         timed: list[tuple[float, int]] = []

@@ -652,21 +652,8 @@ class Analyzer3964(ProcedureAnalyzer):
         return out + self._variants
 
     # -- reports --------------------------------------------------------------------------
-    def label(self, items) -> str:
-        """E.g. "a STX, b DLE, a block 31 10 32, b DLE"."""
-        runs: list[tuple[str, list]] = []
-        for seat, it in items:
-            if runs and runs[-1][0] == seat:
-                runs[-1][1].append(it)
-            else:
-                runs.append((seat, [it]))
-        words = []
-        for seat, its in runs:
-            words.append(f"{seat} {self._describe(its)}")
-        text = ", ".join(words)
-        return text if len(text) <= 160 else text[:157] + "..."
-
-    def _describe(self, its: list) -> str:
+    def describe(self, seat: str, its: list) -> str:
+        """E.g. "STX", "block 31 10 32 (3 bytes, BCC)" or "DLE BREAK" (see :meth:`label`)."""
         parts = []
         data = bytearray()
 

@@ -53,7 +53,7 @@ from types import SimpleNamespace
 from typing import Any
 
 from ptpcert import results as R
-from ptpcert.analysis import OTHER, SEATS, Cause, Finding
+from ptpcert.analysis import OTHER, SEATS, Cause, Finding, clipped
 from ptpcert.model.app import Host
 from ptpcert.model.codes import Code
 from ptpcert.model.events import Delivered, SendDone, SendFailed
@@ -999,8 +999,7 @@ class Rk512Analyzer(Analyzer3964):
             else:
                 text = K.describe(f)
             words.append(f"{seat} {text}")
-        text = ", ".join(words)
-        return text if len(text) <= 240 else text[:237] + "..."
+        return clipped(", ".join(words), 240)
 
 
 def _frames_of(items, bcc: dict[str, bool]) -> list[tuple[str, bytes]]:
