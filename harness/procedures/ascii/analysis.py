@@ -43,7 +43,7 @@ send jobs' data beyond what was sent (a job the driver cut after its end charact
 like two jobs: see the tests' NOT_VISIBLE_ON_THE_WIRE).
 
 Timing windows (on top of the capture's resolution): a character of a frame may come up to
-half the shorter CDT late after the one before (see ``AnalyzerAscii._gap``); so may the
+half the shorter CDT late after the one before (see ``AsciiAnalyzer._gap``); so may the
 first character after the partner's XON (the partner's CDT runs again from its XON); the
 first character of a frame held back by the pause between
 frames may come one character time and 5 % of the pause early; XON and XOFF the tolerance
@@ -238,7 +238,7 @@ _AFTER_XOFF_WHY = Why("tx", "STOPPED", "FIFO", "after_xoff",
                       "§2.2.4 'data flow control': the characters the transmitter held when the XOFF came")
 
 
-class AnalyzerAscii(ProcedureAnalyzer):
+class AsciiAnalyzer(ProcedureAnalyzer):
     """Line analysis of a link between two ASCII drivers (see the module docstring)."""
 
     reference = "§2.2.4; Figs. 2-20 to 2-23; Tables 2-7 to 2-10"

@@ -115,7 +115,9 @@ _INVALID_RULE = ("a character with a parity or framing error: the line or the se
 _AFTER_BREAK = ("after a BREAK a station returns to its initial state at once: it abandons what it was "
                 "sending or receiving and sends nothing, no NAK and no new attempt (16#080D)",
                 "§2.2.2 Error handling; Figs. 2-10 to 2-12 'BREAK'; Table 8-1 16#080D")
-_HIGH_KEEPS = ("initialization conflict: the high-priority station does not answer the partner's STX; it "
+#: the rule a high-priority station breaks when it answers the partner's STX in an initialization
+#: conflict (rule, reference); RK 512's analysis cites it too
+HIGH_KEEPS = ("initialization conflict: the high-priority station does not answer the partner's STX; it "
                "keeps waiting for the DLE to its own STX",
                "§2.2.2 Initialization conflict; Fig. 2-8; Fig. 2-10 'high priority'")
 _LEN_RULE = ("a send job carries 1 to 1024 bytes: a block without data or longer than 1024 bytes is not "
@@ -196,7 +198,7 @@ def _sentence(rule: str) -> str:
     return re.sub(r"^§[\d.\-]+(?: items? [\d\-]+)?:\s*", "", rule)
 
 
-class Analyzer3964(ProcedureAnalyzer):
+class P3964Analyzer(ProcedureAnalyzer):
     """Line analysis of a 3964/3964R link (see the module docstring)."""
 
     reference = "§2.2.2; Figs. 2-5 to 2-12"
@@ -617,7 +619,7 @@ class Analyzer3964(ProcedureAnalyzer):
         if (st.state is T.WAIT_SETUP_ACK and st.params.priority == "high" and item.kind == "byte"
                 and item.value in (DLE, STX) and last is not None and last.kind == "byte" and last.value == STX):
             # it answered the partner's STX, or took it for a refusal and tried again at once
-            return Cause("reply", *_HIGH_KEEPS, 0.0, 0.0, rules=("3964.CONFLICT.HIGH-WAITS",))
+            return Cause("reply", *HIGH_KEEPS, 0.0, 0.0, rules=("3964.CONFLICT.HIGH-WAITS",))
         if later is not None and later[1] == item.value:
             return later[2]
         if last is not None and last.kind == "break" and item.start - last.t < self._rest:
