@@ -42,6 +42,7 @@ from ptpcert.analysis.interface import (
     ProcedureAnalyzer,
     Variant,
     clipped,
+    resolution_variants,
     strip_section,
 )
 from ptpcert.analysis.judge import SeatJudge
@@ -51,7 +52,8 @@ from ptpcert.analysis.seat import SeatRun
 
 __all__ = [
     "OTHER", "QUANTUM", "SEATS", "WAIT",
-    "Cause", "Explanation", "Finding", "Item", "ProcedureAnalyzer", "Variant", "clipped", "strip_section",
+    "Cause", "Explanation", "Finding", "Item", "ProcedureAnalyzer", "Variant", "clipped",
+    "resolution_variants", "strip_section",
     "SeatRun", "SeatJudge", "Exchange", "LineAnalysis",
     "Analysis", "analyze", "exchange_cases", "summary_line", "to_results",
 ]

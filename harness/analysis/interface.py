@@ -237,8 +237,8 @@ class ProcedureAnalyzer:
 
     def label(self, items: list[tuple[str, "Item"]]) -> str:
         """An exchange in a few words, from its bytes ((seat, item) in time order): each run of
-        one seat's consecutive items as :meth:`describe` tells it, after the seat's name, e.g.
-        "a STX, b DLE, a block 31 10 32 (3 bytes, BCC), b DLE"."""
+        one seat's consecutive items as :meth:`describe` tells it, after the seat's name,
+        joined by commas and cut to :attr:`label_width`."""
         runs: list[tuple[str, list[Item]]] = []
         for seat, it in items:
             if runs and runs[-1][0] == seat:
@@ -248,9 +248,27 @@ class ProcedureAnalyzer:
         return clipped(", ".join(f"{seat} {self.describe(seat, its)}" for seat, its in runs), self.label_width)
 
     def describe(self, seat: str, items: list["Item"]) -> str:
-        """Consecutive ``items`` of ``seat`` in a few words, for :meth:`label` (e.g. "STX" or
-        "block 31 32 (2 bytes)")."""
+        """Consecutive ``items`` of ``seat`` in a few words, for :meth:`label` (the procedure's
+        characters by name, its frames by their data)."""
         raise NotImplementedError
+
+
+def resolution_variants(resolution: float, revealed: str) -> list[Variant]:
+    """The alternatives a capture's timing ``resolution`` (seconds) allows: the other seat's
+    characters that much earlier, that much later, and the local events the seat's characters
+    reveal (``revealed``, in words, e.g. "send jobs") up to that much before they show them.
+    None without a resolution."""
+    if resolution <= 0:
+        return []
+    ms = f"{1000 * resolution:.3f} ms"
+    return [
+        Variant("resolution", f"with the other seat's characters {ms} earlier (within the timing resolution)",
+                shift=-resolution),
+        Variant("resolution", f"with the other seat's characters {ms} later (within the timing resolution)",
+                shift=resolution),
+        Variant("resolution", f"with the seat's own {revealed} up to {ms} before its characters show them "
+                              "(within the timing resolution)", lead=resolution),
+    ]
 
 
 def clipped(text: str, width: int) -> str:

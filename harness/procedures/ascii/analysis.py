@@ -56,7 +56,8 @@ import bisect
 from dataclasses import dataclass, replace
 from typing import Any
 
-from ptpcert.analysis import OTHER, QUANTUM, SEATS, WAIT, Cause, Explanation, ProcedureAnalyzer, Variant
+from ptpcert.analysis import (OTHER, QUANTUM, SEATS, WAIT, Cause, Explanation, ProcedureAnalyzer, Variant,
+                              resolution_variants)
 from ptpcert.model.codes import Code
 from ptpcert.model.events import SendDone, SendFailed
 from ptpcert.procedures.ascii.model import AsciiStation
@@ -765,16 +766,8 @@ class AsciiAnalyzer(ProcedureAnalyzer):
 
     # -- alternatives -----------------------------------------------------------------------
     def variants(self, seat: str, resolution: float) -> list[Variant]:
-        out = []
-        if resolution > 0:
-            out.append(Variant("resolution", f"with the other seat's characters {1000 * resolution:.3f} ms earlier "
-                                             "(within the timing resolution)", shift=-resolution))
-            out.append(Variant("resolution", f"with the other seat's characters {1000 * resolution:.3f} ms later "
-                                             "(within the timing resolution)", shift=resolution))
-            out.append(Variant("resolution", f"with the seat's own send jobs and reads up to "
-                                             f"{1000 * resolution:.3f} ms before its characters show them "
-                                             "(within the timing resolution)", lead=resolution))
-        else:
+        out = resolution_variants(resolution, "send jobs and reads")
+        if resolution <= 0:
             # the capture formats keep whole microseconds: an XOFF and the character a station
             # would have begun next that met within one came in either order
             out.append(Variant("resolution", "with the other seat's characters 2 µs earlier (the capture's "

@@ -19,7 +19,7 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Any
 
-from ptpcert.analysis.interface import OTHER, SEATS, ProcedureAnalyzer, Variant
+from ptpcert.analysis.interface import OTHER, SEATS, ProcedureAnalyzer, Variant, resolution_variants
 from ptpcert.model.app import Host
 from ptpcert.procedures.p3964.analysis.causes import Causes, timer_duration
 from ptpcert.procedures.p3964.analysis.events import LocalEvents
@@ -107,15 +107,7 @@ class P3964Analyzer(LocalEvents, Causes, ProcedureAnalyzer):
 
     # -- alternatives ---------------------------------------------------------------------
     def variants(self, seat: str, resolution: float) -> list[Variant]:
-        out = []
-        if resolution > 0:
-            out.append(Variant("resolution", f"with the other seat's characters {1000 * resolution:.3f} ms earlier "
-                                             "(within the timing resolution)", shift=-resolution))
-            out.append(Variant("resolution", f"with the other seat's characters {1000 * resolution:.3f} ms later "
-                                             "(within the timing resolution)", shift=resolution))
-            out.append(Variant("resolution", f"with the seat's own send jobs and free buffers up to "
-                                             f"{1000 * resolution:.3f} ms before its characters show them "
-                                             "(within the timing resolution)", lead=resolution))
+        out = resolution_variants(resolution, "send jobs and free buffers")
         if self._variants is None:
             kit = self.procedure.fuzz_kit()
             # every alternative starts with its receive buffer busy (see fresh): this one with
