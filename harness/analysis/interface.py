@@ -8,7 +8,9 @@ what a byte the model does not send breaks, the alternatives to try before a dif
 stands (:class:`Variant`), and how an exchange is labelled. This module holds that interface
 and the values both sides pass: the seats (:data:`SEATS`, :data:`OTHER`), one thing a seat put
 on its line (:class:`Item`), a local event a byte reveals (:class:`Explanation`, or
-:data:`WAIT`), and a rule a seat broke (:class:`Finding`).
+:data:`WAIT`), and a rule a seat broke (:class:`Finding`); and the few helpers the procedures
+share: :func:`resolution_variants` (the alternatives a coarse capture allows), :func:`clipped`
+and :func:`strip_section` (texts for reports).
 
 It sits at the bottom of the analysis: the seat run (:mod:`~ptpcert.analysis.seat`), the seat
 judge (:mod:`~ptpcert.analysis.judge`), the line (:mod:`~ptpcert.analysis.line`) and each
