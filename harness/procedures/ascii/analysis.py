@@ -43,7 +43,7 @@ send jobs' data beyond what was sent (a job the driver cut after its end charact
 like two jobs: see the tests' NOT_VISIBLE_ON_THE_WIRE).
 
 Timing windows (on top of the capture's resolution): a character of a frame may come up to
-half the shorter CDT late after the one before (see ``AnalyzerAscii._gap``); so may the
+half the shorter CDT late after the one before (see ``AsciiAnalyzer._gap``); so may the
 first character after the partner's XON (the partner's CDT runs again from its XON); the
 first character of a frame held back by the pause between
 frames may come one character time and 5 % of the pause early; XON and XOFF the tolerance
@@ -56,7 +56,8 @@ import bisect
 from dataclasses import dataclass, replace
 from typing import Any
 
-from ptpcert.analysis import OTHER, QUANTUM, SEATS, WAIT, Cause, Explanation, ProcedureAnalyzer, Variant
+from ptpcert.analysis import (OTHER, QUANTUM, SEATS, WAIT, Cause, Explanation, ProcedureAnalyzer, Variant,
+                              resolution_variants)
 from ptpcert.model.codes import Code
 from ptpcert.model.events import SendDone, SendFailed
 from ptpcert.procedures.ascii.model import AsciiStation
@@ -238,7 +239,7 @@ _AFTER_XOFF_WHY = Why("tx", "STOPPED", "FIFO", "after_xoff",
                       "§2.2.4 'data flow control': the characters the transmitter held when the XOFF came")
 
 
-class AnalyzerAscii(ProcedureAnalyzer):
+class AsciiAnalyzer(ProcedureAnalyzer):
     """Line analysis of a link between two ASCII drivers (see the module docstring)."""
 
     reference = "§2.2.4; Figs. 2-20 to 2-23; Tables 2-7 to 2-10"
@@ -765,16 +766,8 @@ class AnalyzerAscii(ProcedureAnalyzer):
 
     # -- alternatives -----------------------------------------------------------------------
     def variants(self, seat: str, resolution: float) -> list[Variant]:
-        out = []
-        if resolution > 0:
-            out.append(Variant("resolution", f"with the other seat's characters {1000 * resolution:.3f} ms earlier "
-                                             "(within the timing resolution)", shift=-resolution))
-            out.append(Variant("resolution", f"with the other seat's characters {1000 * resolution:.3f} ms later "
-                                             "(within the timing resolution)", shift=resolution))
-            out.append(Variant("resolution", f"with the seat's own send jobs and reads up to "
-                                             f"{1000 * resolution:.3f} ms before its characters show them "
-                                             "(within the timing resolution)", lead=resolution))
-        else:
+        out = resolution_variants(resolution, "send jobs and reads")
+        if resolution <= 0:
             # the capture formats keep whole microseconds: an XOFF and the character a station
             # would have begun next that met within one came in either order
             out.append(Variant("resolution", "with the other seat's characters 2 µs earlier (the capture's "
@@ -803,20 +796,9 @@ class AnalyzerAscii(ProcedureAnalyzer):
         return out + self._variants
 
     # -- reports --------------------------------------------------------------------------
-    def label(self, items) -> str:
-        """E.g. "a frame 41 42 <ETX> (end character), b frame 41 42 <ETX> (end character)"."""
-        runs: list[tuple[str, list]] = []
-        for seat, it in items:
-            if runs and runs[-1][0] == seat:
-                runs[-1][1].append(it)
-            else:
-                runs.append((seat, [it]))
-        words = [f"{seat} {self._describe(seat, its)}" for seat, its in runs]
-        text = ", ".join(words)
-        return text if len(text) <= 160 else text[:157] + "..."
-
-    def _describe(self, seat: str, its: list) -> str:
-        """A seat's characters as the other seat's receiver delimits them."""
+    def describe(self, seat: str, its: list) -> str:
+        """A seat's characters as the other seat's receiver delimits them, e.g. "frame 41 42 <ETX>
+        (3 bytes, end character)" (see :meth:`label`)."""
         rx = self.params[OTHER[seat]]
         parts: list[str] = []
         timed: list[tuple[float, int]] = []

@@ -426,8 +426,8 @@ class AsciiProcedure(Procedure):
 
     # -- line analysis --------------------------------------------------------------------
     def analyzer(self, params_a: AsciiParams, params_b: AsciiParams, *, apps=None, late_ms: float = 50.0):
-        from ptpcert.procedures.ascii.analysis import AnalyzerAscii
-        return AnalyzerAscii(self, {"a": params_a, "b": params_b}, dict(apps or {}), late_ms)
+        from ptpcert.procedures.ascii.analysis import AsciiAnalyzer
+        return AsciiAnalyzer(self, {"a": params_a, "b": params_b}, dict(apps or {}), late_ms)
 
     # -- broken variants and fuzzing ------------------------------------------------------
     def mutants(self) -> Mapping[str, Mutant]:

@@ -259,8 +259,8 @@ class P3964Procedure(Procedure):
 
     # -- line analysis --------------------------------------------------------------------
     def analyzer(self, params_a: Params3964, params_b: Params3964, *, apps=None, late_ms: float = 50.0):
-        from ptpcert.procedures.p3964.analysis import Analyzer3964
-        return Analyzer3964(self, {"a": params_a, "b": params_b}, dict(apps or {}), late_ms)
+        from ptpcert.procedures.p3964.analysis import P3964Analyzer
+        return P3964Analyzer(self, {"a": params_a, "b": params_b}, dict(apps or {}), late_ms)
     # -- the traceability matrix --------------------------------------------------------
     def rule_settings(self) -> list[tuple[str, dict[str, Any], Any]]:
         """Both variants in both priorities with the default 8-bit frame, and 3964R with a

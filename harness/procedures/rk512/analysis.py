@@ -2,7 +2,7 @@
 
 The link below RK 512 is 3964(R) (§2.2.1; §2.2.3: every RK 512 frame is the user data of one
 3964(R) block), and it is judged exactly as a stand-alone 3964(R) link is
-(:class:`~ptpcert.procedures.p3964_analysis.Analyzer3964`: blocks, acknowledgements, retries,
+(:class:`~ptpcert.procedures.p3964.analysis.P3964Analyzer`: blocks, acknowledgements, retries,
 timers). On top of it, a *frame layer* judges what the frames say. Every block that a seat's
 model station took from the partner (the seat's DLE accepted it) and every block of the seat
 that the partner accepted is one RK 512 frame, and the seat's RK 512 layer is followed by two
@@ -53,16 +53,16 @@ from types import SimpleNamespace
 from typing import Any
 
 from ptpcert import results as R
-from ptpcert.analysis import OTHER, SEATS, Cause, Finding
+from ptpcert.analysis import OTHER, SEATS, Cause, Finding, clipped
 from ptpcert.model.app import Host
 from ptpcert.model.codes import Code
 from ptpcert.model.events import Delivered, SendDone, SendFailed
-from ptpcert.procedures.p3964.analysis import _HIGH_KEEPS, Analyzer3964
+from ptpcert.procedures.p3964.analysis import HIGH_KEEPS, P3964Analyzer
 from ptpcert.procedures.p3964.model import codec as L
 from ptpcert.procedures.p3964.model.readings import READINGS
 from ptpcert.procedures.p3964.model.station import Station3964
 from ptpcert.procedures.rk512.model import codec as K
-from ptpcert.procedures.rk512.model.core import Rk512Core, _Job
+from ptpcert.procedures.rk512.model.core import Job, Rk512Core
 from ptpcert.procedures.rk512.model.memory import Memory
 from ptpcert.procedures.rk512.model.params import Rk512Params
 from ptpcert.procedures.rk512.model.readings import RK512_READINGS
@@ -266,7 +266,7 @@ class _Probe(Rk512Core):
             rest = h.nbytes - (len(frame) - K.HEADER_LEN)
             frames += [h.continuation + bytes(n) for n in K.chunk_sizes(rest)] if rest > 0 else []
         req = SimpleNamespace(label=K.describe(frame), length=h.nbytes)
-        job = _Job(req, h, frames, fetch)
+        job = Job(req, h, frames, fetch)
         self.job = job
         self.a_state = AState.SEND_COMMAND
         self._active(AInput.COMMAND_SENT)
@@ -787,7 +787,7 @@ class _Rk512LinkHost(Host):
 # ------------------------------------------------------------------ the analyzer
 
 
-class Rk512Analyzer(Analyzer3964):
+class Rk512Analyzer(P3964Analyzer):
     """Line analysis of an RK 512 link: the 3964(R) link and the RK 512 frames (module docstring).
     ``rk_params`` maps each seat to its :class:`~ptpcert.model.rk512.Rk512Params`."""
 
@@ -833,7 +833,7 @@ class Rk512Analyzer(Analyzer3964):
         inputs, k = run.judge.inputs, run.i_in
         if (item.kind == "byte" and item.value == L.DLE and run.st.params.priority == "high" and k >= 2
                 and [(x.kind, x.value) for x in inputs[k - 2:k]] == [("byte", L.STX), ("byte", L.DLE)]):
-            return Cause("reply", *_HIGH_KEEPS, 0.0, 0.0, rules=("3964.CONFLICT.HIGH-WAITS",))
+            return Cause("reply", *HIGH_KEEPS, 0.0, 0.0, rules=("3964.CONFLICT.HIGH-WAITS",))
         return super().wrong(run, item, byte, cause)
 
     # -- the frame layer's inputs ---------------------------------------------------------
@@ -999,8 +999,7 @@ class Rk512Analyzer(Analyzer3964):
             else:
                 text = K.describe(f)
             words.append(f"{seat} {text}")
-        text = ", ".join(words)
-        return text if len(text) <= 240 else text[:237] + "..."
+        return clipped(", ".join(words), 240)
 
 
 def _frames_of(items, bcc: dict[str, bool]) -> list[tuple[str, bytes]]:

@@ -58,8 +58,10 @@ _OK_FIRST = response_head(True, 0)
 _OK_CONT = response_head(False, 0)
 
 
-class _Job:
-    """The active request in progress."""
+class Job:
+    """The active request in progress: its header and frames (the first and its continuations),
+    the frame in flight, and what a FETCH has received and stored so far. Public: the RK 512
+    line analysis builds one for a command the line shows (its probe's ``install``)."""
 
     __slots__ = ("req", "label", "header", "fetch", "frames", "k", "data", "remaining", "store")
 
@@ -109,7 +111,7 @@ class Rk512Core:
         self._inflight: tuple | None = None
         # active side
         self._requests: deque[Request] = deque()
-        self.job: _Job | None = None
+        self.job: Job | None = None
         self._t_res_a = inf
         # passive side
         self.open: _Open | None = None
@@ -460,7 +462,7 @@ class Rk512Core:
             frames = send_frames(h, send_payload(req, h))
         else:
             frames = fetch_frames(h)
-        job = _Job(req, h, frames, req.op == "fetch")
+        job = Job(req, h, frames, req.op == "fetch")
         if job.fetch and h.area is not None and h.area.words:
             job.store = min(req.length, h.nbytes)
         self.job = job
