@@ -309,7 +309,7 @@ def cmd_run(args) -> int:
         result.finished = _now()
         if interrupts.count:
             result.interrupted = True
-        written = write_reports(result, args, "run")
+        written = write_reports(result, args, "run", profile.procedure.report_view())
         if startup_failure or fault:
             print(f"ptpcert run: {' '.join((startup_failure or fault).split())[:600]}", file=sys.stderr)
         else:
@@ -365,10 +365,11 @@ def report_paths_problem(args, kinds: tuple[str, ...], reading: str | None = Non
     return None
 
 
-def write_reports(result, args, cmd: str) -> set[str]:
+def write_reports(result, args, cmd: str, view=None) -> set[str]:
     """Write the reports the options ask for: JUnit first (what CI reads), then JSON and
     HTML, each whole or not at all. Returns the kinds written; a report that cannot be
-    written is said on stderr and does not stop the others."""
+    written is said on stderr and does not stop the others. ``view``: the procedure's
+    :class:`~ptpcert.report.view.ReportView` for the HTML (None: neutral)."""
     from ptpcert import capture as C
     from ptpcert import report as rep
     from ptpcert.report.html import write_html
@@ -376,8 +377,8 @@ def write_reports(result, args, cmd: str) -> set[str]:
     def write_pcap(r, p) -> None:       # run --pcap: the run's wire traffic as one capture
         C.save(C.from_results(r), p, "pcap")
 
-    writers = (("junit", rep.write_junit), ("json", lambda r, p: r.write_json(p)), ("html", write_html),
-               ("pcap", write_pcap))
+    writers = (("junit", rep.write_junit), ("json", lambda r, p: r.write_json(p)),
+               ("html", lambda r, p: write_html(r, p, view)), ("pcap", write_pcap))
     written = set()
     for kind, write in writers:
         path = getattr(args, kind, None)
@@ -567,11 +568,20 @@ def cmd_report(args) -> int:
         return 0
     if args.html:
         result.html_path = args.html
-    written = write_reports(result, args, "report")
+    written = write_reports(result, args, "report", report_view_of(result))
     for kind in ("junit", "html"):
         if kind in written:
             print(f"{kind}: {getattr(args, kind)}")
     return 0 if len(written) == bool(args.html) + bool(args.junit) else 2
+
+
+def report_view_of(result):
+    """The report view of the procedure whose title the results carry (a saved run), or
+    None (neutral) when no procedure has it."""
+    from ptpcert.procedures import PROCEDURES
+
+    proc = next((p for p in PROCEDURES if result.procedure and p.title == result.procedure), None)
+    return proc.report_view() if proc is not None else None
 
 
 def _now() -> str:

@@ -3,7 +3,9 @@ lives in :mod:`ptpcert.report.html`.
 
 The package along its jobs: :mod:`~ptpcert.report.text` has the words every view shares
 (anchors, step and failure texts, transcript tails, the summary),
-:mod:`~ptpcert.report.junit` writes the JUnit file. This module is their face.
+:mod:`~ptpcert.report.junit` writes the JUnit file, and :mod:`~ptpcert.report.view` has
+:class:`ReportView`, what the views need to know about a procedure, handed in by the
+caller. This module is their face.
 """
 
 from __future__ import annotations
@@ -21,8 +23,9 @@ from ptpcert.report.text import (
     timer_tolerance_text,
     transcript_text,
 )
+from ptpcert.report.view import NEUTRAL, ReportView
 
 __all__ = [
-    "JUNIT_KIND", "anchor", "case_link", "deviation_lines", "failure_text", "frame_lines", "progress_line",
-    "step_text", "summary", "timer_tolerance_text", "transcript_text", "write_junit",
+    "JUNIT_KIND", "NEUTRAL", "ReportView", "anchor", "case_link", "deviation_lines", "failure_text", "frame_lines",
+    "progress_line", "step_text", "summary", "timer_tolerance_text", "transcript_text", "write_junit",
 ]

@@ -78,7 +78,8 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
     for i, g in enumerate(devs, 1):
         props[f"deviation.{i}"] = g["description"]
     dev = "\n".join(deviation_lines(run, groups=devs)).strip()
-    suite = TestSuite(f"ptpcert {run.procedure or '3964/3964R'} conformance", cases, timestamp=run.started,
+    name = f"ptpcert {run.procedure} conformance" if run.procedure else "ptpcert conformance"
+    suite = TestSuite(name, cases, timestamp=run.started,
                       properties=props, stdout=dev or None)
     xml = to_xml_report_string([suite], prettyprint=True)
     if any(c.device for c in run.cases):

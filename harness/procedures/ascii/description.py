@@ -433,5 +433,11 @@ class PAscii(Procedure):
         from ptpcert.procedures.ascii.fuzz import KIT_ASCII
         return KIT_ASCII
 
+    # -- the reports' view ------------------------------------------------------------------
+    def report_view(self):
+        """XON/XOFF and the end characters named as each case's settings give them."""
+        from ptpcert.procedures.ascii.tokens import report_view
+        return report_view(self.groups)
+
 
 __all__ = ["PAscii", "GROUPS", "echo_frames", "parse_codes", "parse_jobs", "BAUD_RATES"]

@@ -302,3 +302,9 @@ class P3964(Procedure):
     def fuzz_kit(self):
         from ptpcert.fuzz import KIT_3964
         return KIT_3964
+
+    # -- the reports' view ------------------------------------------------------------------
+    def report_view(self):
+        """The control characters named by each case's procedure (3964 or 3964R)."""
+        from ptpcert.procedures.p3964.tokens import report_view
+        return report_view(self.groups)

@@ -470,6 +470,12 @@ class Rk512(Procedure):
         from ptpcert.procedures.rk512.fuzz import KIT_RK512
         return KIT_RK512
 
+    # -- the reports' view ------------------------------------------------------------------
+    def report_view(self):
+        """The link's bytes named as 3964R names them."""
+        from ptpcert.procedures.p3964.tokens import report_view
+        return report_view(self.groups, link="3964R")
+
 
 def decode_blocks(transcript: list[dict[str, Any]], bcc: bool) -> list[dict[str, Any]]:
     """The 3964(R) blocks of a transcript in each direction, each labelled with the RK 512

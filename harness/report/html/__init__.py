@@ -4,7 +4,8 @@ JavaScript for the verdict filter; readable without it) rendered from the result
 Per case it shows the rule, the verdict, the STATUS events expected and observed, and a
 sequence diagram of the transcript drawn the way the manual draws its figures: the tester's
 lane on the left, the IUT's on the right, time flowing down, one arrow per burst of bytes
-with the control characters named, the timer windows the steps watched as bars beside the
+named as the procedure's view says (:class:`ptpcert.report.view.ReportView`, handed in by
+the caller), the timer windows the steps watched as bars beside the
 IUT's lane, BREAK and character errors marked, and the first divergence in red.
 
 The package along its jobs:
@@ -29,7 +30,6 @@ from ptpcert.report.html.case import FAILURES, case_section, transcript_section
 from ptpcert.report.html.diagram import sequence_svg
 from ptpcert.report.html.events import (
     BURST_SHOWN,
-    CONTROL,
     GROUP_GAP,
     MAX_TOKENS,
     Arrow,
@@ -37,17 +37,14 @@ from ptpcert.report.html.events import (
     arrow_label,
     burst_hex,
     group_events,
-    name_controls,
-    tokens,
 )
 from ptpcert.report.html.layout import AXIS_X, IX, MAX_H, TX, W
 from ptpcert.report.html.markup import abbreviate_hex, esc, ms, ms_short
-from ptpcert.report.html.page import GROUP_ORDER, ordered_cases, render, write_html
+from ptpcert.report.html.page import ordered_cases, render, write_html
 from ptpcert.report.html.status import status_name
 
 __all__ = [
-    "AXIS_X", "BURST_SHOWN", "CONTROL", "FAILURES", "GROUP_GAP", "GROUP_ORDER", "IX", "MAX_H", "MAX_TOKENS", "TX",
-    "W", "Arrow", "LineBreak", "abbreviate_hex", "arrow_label", "burst_hex", "case_section", "esc",
-    "group_events", "ms", "ms_short", "name_controls", "ordered_cases", "render", "sequence_svg",
-    "status_name", "tokens", "transcript_section", "write_html",
+    "AXIS_X", "BURST_SHOWN", "FAILURES", "GROUP_GAP", "IX", "MAX_H", "MAX_TOKENS", "TX", "W", "Arrow",
+    "LineBreak", "abbreviate_hex", "arrow_label", "burst_hex", "case_section", "esc", "group_events", "ms",
+    "ms_short", "ordered_cases", "render", "sequence_svg", "status_name", "transcript_section", "write_html",
 ]

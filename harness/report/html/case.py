@@ -12,11 +12,12 @@ from typing import Any
 
 from ptpcert import results as R
 from ptpcert.report.html.diagram import sequence_svg
-from ptpcert.report.html.events import LineBreak, burst_hex, group_events, name_controls
+from ptpcert.report.html.events import LineBreak, burst_hex, group_events
 from ptpcert.report.html.frames import drawable_frames
 from ptpcert.report.html.markup import abbreviate_hex, badge, esc, is_num, ms
 from ptpcert.report.html.status import CODE_RE, codes_in_text, status_html
 from ptpcert.report.text import anchor, step_text
+from ptpcert.report.view import NEUTRAL, ReportView
 
 #: Verdicts listed first in the case list, their cases shown open.
 FAILURES = (R.FAIL, R.XPASS, R.ERROR)
@@ -41,12 +42,12 @@ def _steps_table(c: R.CaseResult) -> str:
             '<th>bytes / duration</th><th>timing</th><th>note</th></tr>' + "".join(rows) + "</table></details>")
 
 
-def transcript_section(c: R.CaseResult, events: list | None = None) -> str:
+def transcript_section(c: R.CaseResult, events: list | None = None, view: ReportView | None = None) -> str:
     """The whole transcript, one line per burst, window or mark (compact: full bytes, no
-    line per byte)."""
+    line per byte); ``events``: its :func:`group_events` (by ``view``), where at hand."""
     lines = []
     items: list[tuple[float, int, str]] = []
-    for e in group_events(c.transcript) if events is None else events:
+    for e in group_events(c.transcript, view=view) if events is None else events:
         if isinstance(e, LineBreak):
             items.append((e.t0, 0, f"{ms(e.t0):>10} ms  {e.dir:<6} BREAK held {e.duration * 1000:.1f} ms  (step {e.step + 1})"))
         else:
@@ -90,9 +91,10 @@ def _frame_line(f: dict[str, Any]) -> str:
     return line
 
 
-def case_section(c: R.CaseResult, used: set[str]) -> str:
-    """The case's section (open when it failed); the STATUS codes it shows are added to
-    ``used``."""
+def case_section(c: R.CaseResult, used: set[str], view: ReportView | None = None) -> str:
+    """The case's section (open when it failed), its bytes named as ``view`` says; the
+    STATUS codes it shows are added to ``used``."""
+    view = view or NEUTRAL
     a = anchor(c.id)
     failing = c.verdict in FAILURES
     rows: list[tuple[str, str]] = []
@@ -140,11 +142,11 @@ def case_section(c: R.CaseResult, used: set[str]) -> str:
         win = (f"; the window that applied: [{ms(float(d.window[0]))}, {ms(float(d.window[1]))}] ms"
                if d.window else "")
         body.append(f'<div class="divbox"><b>first divergence</b> at {step_text(d.step)}{ms(d.time)} ms{esc(win)}:'
-                    f"<br>expected {esc(name_controls(abbreviate_hex(d.expected)))}"
-                    f"<br>observed {esc(name_controls(abbreviate_hex(d.observed)))}"
+                    f"<br>expected {esc(view.words(abbreviate_hex(d.expected), c.params))}"
+                    f"<br>observed {esc(view.words(abbreviate_hex(d.observed), c.params))}"
                     + (f"<br>{esc(where)}" if (where := R.divergence_frame_text(c)) else "") + "</div>")
-    events = group_events(c.transcript)
-    svg = sequence_svg(c, events)
+    events = group_events(c.transcript, view=view)
+    svg = sequence_svg(c, events, view)
     if svg:
         body.append(f'<div class="diagram">{svg}</div>')
     else:

@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 
 from ptpcert import results as R
-from ptpcert.report.html.events import LineBreak, arrow_label, group_events, name_controls
+from ptpcert.report.html.events import LineBreak, arrow_label, group_events
 from ptpcert.report.html.frames import drawable_frames, frame_arrows, frames_svg
 from ptpcert.report.html.layout import (
     AXIS_X,
@@ -45,15 +45,16 @@ from ptpcert.report.html.layout import (
 )
 from ptpcert.report.html.markup import abbreviate_hex, esc, hexstr, ms, ms_short
 from ptpcert.report.text import step_text
+from ptpcert.report.view import NEUTRAL, ReportView
 
 
-def sequence_svg(c: R.CaseResult, events: list | None = None) -> str:
+def sequence_svg(c: R.CaseResult, events: list | None = None, view: ReportView | None = None) -> str:
     """The case's transcript as an SVG sequence diagram ('' when there is no transcript);
-    ``events``: its :func:`group_events`, where already at hand."""
+    ``events``: its :func:`group_events`, where already at hand; ``view``: how the case's
+    procedure names its bytes (neutral: in hex)."""
     tr = c.transcript or []
-    procedure = str(c.params.get("procedure", "3964R"))
-    parity = str(c.params.get("parity", "even"))
-    all_events = group_events(tr) if events is None else events
+    view = view or NEUTRAL
+    all_events = group_events(tr, view=view) if events is None else events
     windows = [e for e in tr if e.get("kind") == "window" and "t0" in e and "t1" in e]
     starts = [float(e["t"]) for e in tr if e.get("kind") == "start" and "t" in e]
     div = c.divergence
@@ -65,8 +66,8 @@ def sequence_svg(c: R.CaseResult, events: list | None = None) -> str:
     div_lines: list[str] = []
     if div is not None:
         div_text = (f"✗ {step_text(div.step)}{ms(div.time)} ms: expected "
-                    f"{name_controls(abbreviate_hex(div.expected))}; "
-                    f"observed {name_controls(abbreviate_hex(div.observed))}")
+                    f"{view.words(abbreviate_hex(div.expected), c.params)}; "
+                    f"observed {view.words(abbreviate_hex(div.observed), c.params)}")
         div_lines = wrap(div_text, DIV_WRAP)[:6]
     div_h = 14.0 * len(div_lines) + 18.0
 
@@ -211,7 +212,7 @@ def sequence_svg(c: R.CaseResult, events: list | None = None) -> str:
         y1 = max(y(e.lt1), y0 + SLOPE)
         tester = e.dir == "tester"
         x0, x1 = (TX, IX) if tester else (IX, TX)
-        label = arrow_label(e, procedure, parity)
+        label = arrow_label(e, view, c.params)
         head = (f"{x1},{y1:.1f} {x1 - 9 if tester else x1 + 9},{y1 - 5:.1f} "
                 f"{x1 - 9 if tester else x1 + 9},{y1 + 3:.1f}")
         sender = "tester → IUT" if tester else "IUT → tester"

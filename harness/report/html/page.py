@@ -23,11 +23,7 @@ from ptpcert.report.html.markup import abbreviate_hex, badge, esc
 from ptpcert.report.html.rules import traceability_section
 from ptpcert.report.html.status import legend
 from ptpcert.report.text import anchor
-
-#: The manual's sections, in its order; any other group present follows, sorted.
-GROUP_ORDER = ("start-up", "idle", "receive", "send", "release", "repetition", "conflict",
-               "break", "character-error", "timing", "regression")
-
+from ptpcert.report.view import NEUTRAL, ReportView
 
 @cache
 def asset(name: str) -> str:
@@ -80,7 +76,8 @@ def _header(run: R.RunResult) -> str:
     counts = run.counts()
     n = len(run.cases)
     verdict = run.verdict
-    out = [f'<header><h1>ptpcert conformance report — {esc(run.procedure or "3964/3964R")}</h1>'
+    heading = "ptpcert conformance report" + (f" — {run.procedure}" if run.procedure else "")
+    out = [f'<header><h1>{esc(heading)}</h1>'
            f'<p>overall verdict {badge(verdict, "overall")} &nbsp; {n} cases: '
            + " ".join(f'{badge(v)} {counts[v]}' for v in R.VERDICTS if counts.get(v)) + "</p>"]
     if run.interrupted:
@@ -109,13 +106,13 @@ def _filter(run: R.RunResult) -> str:
             f'<button type="button" id="collapse-all">collapse all</button></nav>')
 
 
-def _groups(run: R.RunResult) -> list[str]:
+def _groups(run: R.RunResult, view: ReportView) -> list[str]:
+    """The case groups of the run, in the order the view gives them."""
     present = []
     for c in run.cases:
         if c.group not in present:
             present.append(c.group)
-    ordered = [g for g in GROUP_ORDER if g in present]
-    return ordered + sorted(g for g in present if g not in GROUP_ORDER)
+    return view.order(present)
 
 
 def _deviations(run: R.RunResult) -> str:
@@ -133,9 +130,9 @@ def _deviations(run: R.RunResult) -> str:
             f'<ol>{"".join(items)}</ol></section>')
 
 
-def _summary(run: R.RunResult) -> str:
+def _summary(run: R.RunResult, view: ReportView) -> str:
     out = [_deviations(run), '<section id="summary"><h2>Summary by manual section</h2>']
-    for g in _groups(run):
+    for g in _groups(run, view):
         cs = [c for c in run.cases if c.group == g]
         counts: dict[str, int] = {}
         for c in cs:
@@ -170,15 +167,17 @@ def ordered_cases(run: R.RunResult) -> list[R.CaseResult]:
 
 
 
-def render(run: R.RunResult) -> str:
-    """The report as one HTML string."""
+def render(run: R.RunResult, view: ReportView | None = None) -> str:
+    """The report as one HTML string; ``view``: how the run's procedure names its bytes and
+    orders its groups (:meth:`ptpcert.procedure.Procedure.report_view`; neutral without)."""
+    view = view or NEUTRAL
     used: set[str] = set()
-    cases = "".join(case_section(c, used) for c in ordered_cases(run))
+    cases = "".join(case_section(c, used, view) for c in ordered_cases(run))
     title = f"ptpcert report: {run.iut or 'IUT'} — {run.verdict}"
     return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
             f"<title>{esc(title)}</title><style>\n{asset('report.css')}</style></head><body>"
-            + _header(run) + _filter(run) + _summary(run) + traceability_section(run)
+            + _header(run) + _filter(run) + _summary(run, view) + traceability_section(run)
             + '<section id="cases"><h2>Cases (failures first)</h2>' + cases + "</section>"
             + legend(used)
             + f"<footer>ptpcert {esc(run.tool_version)} · results schema {esc(run.schema)} · "
@@ -186,6 +185,7 @@ def render(run: R.RunResult) -> str:
             + f"<script>\n{asset('report.js')}</script></body></html>\n")
 
 
-def write_html(result: R.RunResult, path) -> None:
-    """Write the report of ``result`` to ``path`` (whole or not at all)."""
-    R.write_atomic(path, render(result))
+def write_html(result: R.RunResult, path, view: ReportView | None = None) -> None:
+    """Write the report of ``result`` to ``path`` (whole or not at all); ``view`` as for
+    :func:`render`."""
+    R.write_atomic(path, render(result, view))
