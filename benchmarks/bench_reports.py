@@ -60,11 +60,12 @@ def main() -> None:
     kept = sum(len(R.wire_events(c.transcript)) for c in result.cases)
     print(f"suite against a {args.bytes / 1e6:g} MB flooder: {len(result.cases)} cases in {run_s:.1f} s, "
           f"verdicts {dict((k, v) for k, v in result.counts().items() if v)}, {kept} bytes kept in all")
+    view = load_profile(PROFILE).procedure.report_view()   # the procedure's view, as the command line hands it in
     with tempfile.TemporaryDirectory() as d:
         out = Path(d)
         total = 0.0
         for name, write in (("junit.xml", write_junit), ("results.json", lambda r, p: r.write_json(p)),
-                            ("report.html", write_html)):
+                            ("report.html", lambda r, p: write_html(r, p, view))):
             t = time.monotonic()
             write(result, out / name)
             dt = time.monotonic() - t
@@ -73,7 +74,7 @@ def main() -> None:
         print(f"  all reports written in {total:.2f} s")
         t = time.monotonic()
         again = R.RunResult.read_json(out / "results.json")
-        write_html(again, out / "again.html")
+        write_html(again, out / "again.html", view)
         write_junit(again, out / "again.xml")
         print(f"  ptpcert report (read the JSON, write HTML and JUnit): {time.monotonic() - t:.2f} s")
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024

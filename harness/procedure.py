@@ -380,3 +380,11 @@ class Procedure:
 
     def __repr__(self) -> str:
         return f"<procedure {self.id}>"
+
+    # -- the reports' view ------------------------------------------------------------------
+    def report_view(self) -> Any:
+        """How the reports show this procedure's runs (a
+        :class:`ptpcert.view.ReportView`): by default each byte in hex and the case
+        groups in the order of :attr:`groups`."""
+        from ptpcert.view import ReportView
+        return ReportView(groups=self.groups)

@@ -647,4 +647,12 @@ def test_a_capture_written_as_results_is_drawn_by_the_report_command(tmp_path):
     C.save(known_capture(), res, "results")
     assert cli_main(["report", str(res), "--html", str(html)]) == 0
     svg = html.read_text()[html.read_text().find("<svg"):]
+    # a capture names no procedure: its bytes are drawn in hex, the block whole with its end
+    whole = " ".join(f"{b:02X}" for b in codec.frame(PAYLOAD, "3964R"))
+    assert ">02</text>" in svg and f">{whole[3:]}</text>" in svg and "BREAK" in svg   # STX, the block, the condition
+    # results that name their procedure are drawn with its names
+    data = json.loads(res.read_text())
+    res.write_text(json.dumps(dict(data, procedure="3964/3964R")))
+    assert cli_main(["report", str(res), "--html", str(html)]) == 0
+    svg = html.read_text()[html.read_text().find("<svg"):]
     assert "STX" in svg and "DLE ETX" in svg and "BREAK" in svg    # the block, its end, the condition

@@ -141,7 +141,7 @@ def test_marks_and_windows_are_drawn_as_ticks_and_shaded_spans():
     assert float(rect.get("height")) > 3          # a span, not a line
     assert "ETX at 2.000 ms" in g.find("title").text and "CDT 2.000–22.000 ms" in g.find("title").text
     # the text transcripts name them too
-    assert "ETX at 2.000 ms; CDT 2.000–22.000 ms" in H._transcript_text(c)
+    assert "ETX at 2.000 ms; CDT 2.000–22.000 ms" in H.transcript_section(c)
     assert "[ETX at 2.000 ms; CDT 2.000-22.000 ms]" in "\n".join(report.frame_lines(c))
 
 

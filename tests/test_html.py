@@ -1,4 +1,4 @@
-"""The HTML report (harness/html.py): one self-contained file rendered from the results
+"""The HTML report (ptpcert.report.html): one self-contained file rendered from the results
 object. Reports are built from real runs (the suite in-process on ``sim:``, in virtual
 time) and from cases made here, for passing, failing, unsupported, errored and xpassed
 cases; the output is parsed (html.parser for the page, xml.etree for each SVG diagram) and
@@ -21,6 +21,9 @@ from pathlib import Path
 import pytest
 
 from ptpcert import results as R
+from ptpcert.registry import by_id
+from ptpcert.procedures.ascii import tokens as ascii_tokens
+from ptpcert.procedures.p3964.tokens import tokens
 from ptpcert.profile import load_profile
 from ptpcert.report import anchor
 from ptpcert.report import html as H
@@ -33,6 +36,8 @@ ROOT = Path(__file__).resolve().parent.parent
 PROFILE = ROOT / "conformance" / "profiles" / "reference-20ms.toml"
 CHROMIUM = Path("/usr/bin/chromium")
 MB2 = 2 * 1024 * 1024
+#: how the reports show a 3964/3964R run (the command line hands the procedure's view in)
+VIEW = by_id("p3964").report_view()
 
 
 # ------------------------------------------------------------------ building results
@@ -201,9 +206,9 @@ def path_points(g: ET.Element) -> tuple[float, float, float, float]:
     return x0, y0, x1, y1
 
 
-def render_one(c: R.CaseResult) -> ET.Element:
+def render_one(c: R.CaseResult, view=VIEW) -> ET.Element:
     run = R.RunResult(tool_version="test", started="now", cases=[c])
-    return case_svgs(H.render(run))[anchor(c.id)]
+    return case_svgs(H.render(run, view))[anchor(c.id)]
 
 
 # ------------------------------------------------------------------ the diagram
@@ -236,36 +241,103 @@ def test_arrows_labels_directions_and_order():
 
 
 def test_labels_3964_long_blocks_and_control_characters():
-    assert H.tokens(bytes([0x02])) == ["STX"]
-    assert H.tokens(bytes([0x15])) == ["NAK"]
-    assert H.tokens(bytes([0x10])) == ["DLE"]
-    assert H.tokens(bytes([0x03])) == ["ETX"]
+    assert tokens(bytes([0x02])) == ["STX"]
+    assert tokens(bytes([0x15])) == ["NAK"]
+    assert tokens(bytes([0x10])) == ["DLE"]
+    assert tokens(bytes([0x03])) == ["ETX"]
     # inside a block, 02/03/15 are data; a doubled DLE is data; 3964 has no BCC
-    assert H.tokens(bytes.fromhex("15 03 10 10 10 03"), "3964") == ["15", "03", "10", "10", "DLE", "ETX"]
-    assert H.tokens(bytes.fromhex("41 10 03 52"), "3964R") == ["41", "DLE", "ETX", "BCC=52"]
+    assert tokens(bytes.fromhex("15 03 10 10 10 03"), "3964") == ["15", "03", "10", "10", "DLE", "ETX"]
+    assert tokens(bytes.fromhex("41 10 03 52"), "3964R") == ["41", "DLE", "ETX", "BCC=52"]
+    # the view names the bytes by the case's procedure; 3964R where its params name none
+    assert VIEW.tokens(bytes.fromhex("41 10 03 52"), {"procedure": "3964"}) == ["41", "DLE", "ETX", "52"]
+    assert VIEW.tokens(bytes.fromhex("41 10 03 52"), {}) == ["41", "DLE", "ETX", "BCC=52"]
     data = bytes([0x31, 0x10, 0x10, 0x32] + [0x41] * 1020 + [0x10, 0x03, 0x06])
     a = H.Arrow("tester", "byte", 0.0, 1.0, bytearray(data), 2)
-    lab = H.arrow_label(a, "3964R")
+    lab = H.arrow_label(a, VIEW, {"procedure": "3964R"})
     assert lab.startswith("31 10 10 32 41 41 … ") and lab.endswith("DLE ETX BCC=06 (1027 bytes)")
     assert len(lab) < 80
     # a character error
     e = H.Arrow("tester", "char_error", 0.0, 0.0, bytearray([0x32]), 3)
-    assert H.arrow_label(e, "3964R", "even") == "parity error 32"
+    assert H.arrow_label(e, VIEW, {"procedure": "3964R", "parity": "even"}) == "parity error 32"
+    # RK 512 runs on the 3964R link: its blocks are named as 3964R names them
+    rk = by_id("rk512").report_view()
+    assert rk.tokens(bytes.fromhex("41 10 03 52"), {"link": "3964R"}) == ["41", "DLE", "ETX", "BCC=52"]
+    assert rk.tokens(bytes([0x02]), {}) == ["STX"] and rk.cut_last is VIEW.cut_last
 
 
 def test_bursts_are_grouped_and_single_control_characters_stay_alone():
     tr = [byte(0.001 * k, "iut", 0x41, 5) for k in range(2000)]       # 2000 bytes, 1 ms apart
     tr += [byte(2.5, "tester", 0x15, 6), byte(2.6, "iut", 0x02, 7), byte(2.601, "tester", 0x10, 8)]
-    ev = H.group_events(tr)
+    ev = H.group_events(tr, view=VIEW)
     assert [len(e.data) for e in ev] == [2000, 1, 1, 1]
     # a block cut short, then the sender's STX right after: the STX is its own arrow
     tr = [byte(0.001 * k, "iut", 0x41, 5) for k in range(5)] + [byte(0.005, "iut", 0x02, 5),
                                                                  byte(0.006, "tester", 0x10, 6)]
-    ev = H.group_events(tr)
+    ev = H.group_events(tr, view=VIEW)
     assert [bytes(e.data) for e in ev] == [b"AAAAA", b"\x02", b"\x10"]
     # a gap >= 20 ms splits a burst
     tr = [byte(0.0, "tester", 0x31, 2), byte(0.001, "tester", 0x32, 2), byte(0.030, "tester", 0x33, 2)]
-    assert [len(e.data) for e in H.group_events(tr)] == [2, 1]
+    assert [len(e.data) for e in H.group_events(tr, view=VIEW)] == [2, 1]
+
+
+def test_a_run_without_a_view_shows_each_byte_in_hex_and_the_groups_as_they_come(tmp_path):
+    """No procedure's view: the report names no byte, cuts no burst and orders the groups
+    as they appear in the run; JUnit and the header name no procedure."""
+    div = R.Divergence(step=5, time=0.001146 * 14, expected="10", observed="received 15")
+    cases = [made_case("TEST.T1", group="timing"), made_case("TEST.R", verdict=R.FAIL, divergence=div, group="receive"),
+             made_case("TEST.S", group="start-up"), made_case("TEST.T2", group="timing")]
+    svg = render_one(cases[0], view=None)
+    assert [(a.get("data-dir"), label(a)) for a in groups(svg, "arrow")] == [
+        ("iut", "15"), ("tester", "02"), ("iut", "10"), ("tester", "31 10 10 32 10 03 23"), ("iut", "10"),
+        ("tester", "02"), ("iut", "15")]
+    run = R.RunResult(tool_version="t", started="now", cases=cases)
+    text = H.render(run)
+    assert re.findall(r'<details class="group" data-group="([^"]+)"', text) == ["timing", "receive", "start-up"]
+    assert "<h1>ptpcert conformance report</h1>" in text
+    (mark,) = groups(case_svgs(text)[anchor("TEST.R")], "divergence")
+    assert "expected 10; observed received 15" in " ".join(mark.itertext())
+    # a block cut short by a new STX stays one burst
+    tr = [byte(0.001 * k, "iut", 0x41, 5) for k in range(5)] + [byte(0.005, "iut", 0x02, 5),
+                                                                 byte(0.006, "tester", 0x10, 6)]
+    assert [bytes(e.data) for e in H.group_events(tr)] == [b"AAAAA\x02", b"\x10"]
+    # with the procedure's view: its names and the manual's order of the groups
+    text = H.render(run, VIEW)
+    assert re.findall(r'<details class="group" data-group="([^"]+)"', text) == ["start-up", "receive", "timing"]
+    (mark,) = groups(case_svgs(text)[anchor("TEST.R")], "divergence")
+    assert "expected 10 (DLE); observed received 15 (NAK)" in " ".join(mark.itertext())
+    # the JUnit suite is named by the run's procedure, neutrally without one
+    from ptpcert.report import write_junit
+    write_junit(run, tmp_path / "j.xml")
+    assert ET.parse(tmp_path / "j.xml").getroot().find("testsuite").get("name") == "ptpcert conformance"
+    write_junit(dataclasses.replace(run, procedure="ASCII driver"), tmp_path / "j.xml")
+    assert ET.parse(tmp_path / "j.xml").getroot().find("testsuite").get("name") == "ptpcert ASCII driver conformance"
+
+
+def test_ascii_bytes_are_named_as_the_cases_settings_give_them():
+    flow = {"flow_control": "xon_xoff", "xon": 0x11, "xoff": 0x13, "end_criterion": "cdt", "end_chars": [0x03]}
+    assert ascii_tokens.tokens(bytes.fromhex("11 41 03 13"), flow) == ["XON", "41", "03", "XOFF"]
+    # other XON/XOFF codes; no flow control: no XON/XOFF; no 3964 names (02, 10, 15 are data)
+    assert ascii_tokens.tokens(bytes.fromhex("05 11 06"), dict(flow, xon=0x05, xoff=0x06)) == ["XON", "11", "XOFF"]
+    assert ascii_tokens.tokens(bytes.fromhex("11 13"), dict(flow, flow_control="none")) == ["11", "13"]
+    assert ascii_tokens.tokens(bytes.fromhex("02 10 15"), flow) == ["02", "10", "15"]
+    # end characters under the end-character criterion: two only as the pair in order
+    end = {"flow_control": "none", "end_criterion": "end_chars", "end_chars": [0x0D, 0x0A]}
+    assert ascii_tokens.tokens(b"AB\r\nC\n\r", end) == ["41", "42", "CR", "LF", "43", "0A", "0D"]
+    assert ascii_tokens.tokens(b"A$", dict(end, end_chars=[0x24])) == ["41", "END=24"]
+    assert ascii_tokens.tokens(b"A\x03", dict(end, end_chars="03")) == ["41", "03"]   # not codes: nothing named
+    # the view in a report: arrow labels and the divergence's words
+    view = by_id("ascii").report_view()
+    params = dict(flow, end_criterion="end_chars")
+    tr = [byte(0.0, "iut", 0x11, -1), byte(0.010, "tester", 0x41, 0), byte(0.011, "tester", 0x03, 0),
+          byte(0.050, "iut", 0x13, 1)]
+    div = R.Divergence(step=1, time=0.050, expected="41 03", observed="received 13")
+    c = made_case("ASCII.X", verdict=R.FAIL, transcript=tr, divergence=div, group="flow-control")
+    c.params = params
+    svg = render_one(c, view)
+    assert [label(a) for a in groups(svg, "arrow")] == ["XON", "41 ETX", "XOFF"]
+    (mark,) = groups(svg, "divergence")
+    assert "expected 41 03; observed received 13 (XOFF)" in " ".join(mark.itertext())
+    assert view.groups == by_id("ascii").groups
 
 
 def test_break_and_character_error_are_marked():
@@ -321,7 +393,7 @@ def test_very_long_case_stays_compact_and_keeps_the_divergence():
 def test_report_of_every_kind_of_case(full_run, tmp_path):
     run = mixed_run(full_run)
     out = tmp_path / "sub" / "report.html"
-    H.write_html(run, out)
+    H.write_html(run, out, VIEW)
     text = out.read_text("utf-8")
     page = Page(text)
 
@@ -444,6 +516,20 @@ def test_cli_report_renders_saved_results(full_run, tmp_path):
     assert len(case_svgs(text)) >= 8
 
 
+@pytest.mark.parametrize("title,named", [("3964/3964R", True), ("RK 512", True), ("", False), ("no such", False)])
+def test_cli_report_shows_saved_results_with_the_view_of_their_procedure(tmp_path, title, named):
+    """``ptpcert report`` finds the procedure by the title the results carry; without one it
+    falls back to the neutral view."""
+    from ptpcert.cli.run import cmd_report
+
+    run = R.RunResult(tool_version="t", started="now", procedure=title, cases=[made_case()])
+    j, out = tmp_path / "r.json", tmp_path / "r.html"
+    run.write_json(j)
+    assert cmd_report(Namespace(results=str(j), html=str(out), junit=None)) == 0
+    labs = [label(a) for a in groups(case_svgs(out.read_text("utf-8"))[anchor("TEST.EXCHANGE")], "arrow")]
+    assert labs[3] == ("31 10 10 32 DLE ETX BCC=23" if named else "31 10 10 32 10 03 23")
+
+
 def test_interrupted_run_and_empty_cases():
     c = R.CaseResult("X.NOT-RUN", "not reached", "§1", "rule", "timing", "receiver",
                      verdict=R.NOT_RUN, message="run interrupted")
@@ -464,7 +550,7 @@ def test_screenshot_in_headless_chromium(full_run):
     reports.mkdir(exist_ok=True)
     page = reports / "report-sample.html"
     png = reports / "report-screenshot.png"
-    H.write_html(run, page)
+    H.write_html(run, page, VIEW)
     if png.exists():
         png.unlink()
     flags = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",

@@ -304,11 +304,11 @@ def test_a_signal_while_the_reports_are_written_is_only_counted(tmp_path, monkey
     real = html.write_html
     hits = []
 
-    def interrupted_writer(result, path):
+    def interrupted_writer(result, path, view=None):
         os.kill(os.getpid(), signal.SIGINT)
         os.kill(os.getpid(), signal.SIGTERM)
         hits.append(path)
-        real(result, path)
+        real(result, path, view)
 
     monkeypatch.setattr(html, "write_html", interrupted_writer)
     old = signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)

@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 
 from ptpcert import results as R
+from ptpcert.procedures.p3964.tokens import control_names
 from ptpcert.report import summary
 from ptpcert.report.html import render
 
@@ -124,9 +125,11 @@ def test_the_signature_survives_other_payloads_and_timings():
     d = _failed("D", "15", "15 came 3.1 ms after the reference, too early", b"\x02\x41\x42\x43")
     e = _failed("E", "02", "received 15", b"\x15")
     f = _failed("F", "02", "received 15", b"\x10")   # same bytes, another situation
-    groups = R.root_causes([a, b, c, d, e, f])
+    groups = R.root_causes([a, b, c, d, e, f], control_names)   # 3964's names of its bytes
     assert [sorted(g["cases"]) for g in groups] == [["A", "B"], ["C", "D"], ["E"], ["F"]]
-    assert R.failure_signature(e) != R.failure_signature(f)
+    assert R.failure_signature(e, control_names) != R.failure_signature(f, control_names)
+    # without a procedure's names a lone stimulus is "a character": one situation
+    assert R.failure_signature(e) == R.failure_signature(f)
     # a passing case is in no group
     ok = R.CaseResult("OK", "t", "ref", "rule", "g", "both", verdict=R.PASS)
     assert R.root_causes([ok]) == []

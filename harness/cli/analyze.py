@@ -161,7 +161,7 @@ class ConsoleListener:
             print(summary_line(line, e, self.seats), file=self.out, flush=True)
 
 
-def _finish(result, args, t0: float) -> int:
+def _finish(result, args, t0: float, view=None) -> int:
     from ptpcert import report as rep
     from ptpcert import results as R
     from ptpcert.cli.run import write_reports
@@ -170,7 +170,7 @@ def _finish(result, args, t0: float) -> int:
     result.finished = now()
     if args.html:
         result.html_path = args.html
-    written = write_reports(result, args, args.command)
+    written = write_reports(result, args, args.command, view)
     print(rep.summary(result).replace(" cases in ", " results in "))
     for kind in ("junit", "json", "html"):
         if getattr(args, kind) and kind in written:
@@ -249,7 +249,7 @@ def cmd_analyze(args) -> int:
     notes.append(f"timing resolution {resolution * 1000:.3f} ms")
     result = A.to_results(an, profile=setup.profile_dict(an.line.judged, resolution), notes=notes)
     result.profile_path = f"seat a: {setup.paths['a']}; seat b: {setup.paths['b']}"
-    return _finish(result, args, t0)
+    return _finish(result, args, t0, setup.proc.report_view())
 
 
 # ------------------------------------------------------------------ monitor
@@ -337,4 +337,4 @@ def cmd_monitor(args) -> int:
         print(f"ptpcert monitor: {mon.stalls} time(s) the monitor was not scheduled in time: the timing of what "
               "came in meanwhile is lost (marked in the capture; findings there are informational)")
     print(f"\n{listener.exchanges} exchanges, {end:.1f} s watched; capture: {path}")
-    return _finish(result, args, t0)
+    return _finish(result, args, t0, setup.proc.report_view())

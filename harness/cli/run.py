@@ -308,7 +308,7 @@ def cmd_run(args) -> int:
         result.finished = now()
         if interrupts.count:
             result.interrupted = True
-        written = write_reports(result, args, "run")
+        written = write_reports(result, args, "run", profile.procedure.report_view())
         if startup_failure or fault:
             print(f"ptpcert run: {' '.join((startup_failure or fault).split())[:600]}", file=sys.stderr)
         else:
@@ -364,19 +364,23 @@ def report_paths_problem(args, kinds: tuple[str, ...], reading: str | None = Non
     return None
 
 
-def write_reports(result, args, cmd: str) -> set[str]:
+def write_reports(result, args, cmd: str, view=None) -> set[str]:
     """Write the reports the options ask for: JUnit first (what CI reads), then JSON and
     HTML, each whole or not at all. Returns the kinds written; a report that cannot be
-    written is said on stderr and does not stop the others."""
+    written is said on stderr and does not stop the others. ``view``: the procedure's
+    :class:`~ptpcert.view.ReportView` for the HTML (None: neutral)."""
     from ptpcert import capture as C
     from ptpcert import report as rep
+    from ptpcert import results as R
     from ptpcert.report.html import write_html
 
     def write_pcap(r, p) -> None:       # run --pcap: the run's wire traffic as one capture
         C.save(C.from_results(r), p, "pcap")
 
-    writers = (("junit", rep.write_junit), ("json", lambda r, p: r.write_json(p)), ("html", write_html),
-               ("pcap", write_pcap))
+    if view is not None and not result.root_causes:   # the procedure names the bytes that steer it
+        result.root_causes = R.root_causes(result.cases, view.names)
+    writers = (("junit", rep.write_junit), ("json", lambda r, p: r.write_json(p)),
+               ("html", lambda r, p: write_html(r, p, view)), ("pcap", write_pcap))
     written = set()
     for kind, write in writers:
         path = getattr(args, kind, None)
@@ -557,8 +561,17 @@ def cmd_report(args) -> int:
         return 0
     if args.html:
         result.html_path = args.html
-    written = write_reports(result, args, "report")
+    written = write_reports(result, args, "report", report_view_of(result))
     for kind in ("junit", "html"):
         if kind in written:
             print(f"{kind}: {getattr(args, kind)}")
     return 0 if len(written) == bool(args.html) + bool(args.junit) else 2
+
+
+def report_view_of(result):
+    """The report view of the procedure whose title the results carry (a saved run), or
+    None (neutral) when no procedure has it."""
+    from ptpcert.registry import by_title
+
+    proc = by_title(result.procedure) if result.procedure else None
+    return proc.report_view() if proc is not None else None

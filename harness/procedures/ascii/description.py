@@ -438,5 +438,11 @@ class AsciiProcedure(Procedure):
         from .fuzz import FUZZ_KIT
         return FUZZ_KIT
 
+    # -- the reports' view ------------------------------------------------------------------
+    def report_view(self):
+        """XON/XOFF and the end characters named as each case's settings give them."""
+        from ptpcert.procedures.ascii.tokens import report_view
+        return report_view(self.groups)
+
 
 __all__ = ["AsciiProcedure", "GROUPS", "echo_frames", "parse_codes", "parse_jobs", "BAUD_RATES"]

@@ -289,3 +289,9 @@ class P3964Procedure(Procedure):
     def fuzz_kit(self):
         from .fuzz import FUZZ_KIT
         return FUZZ_KIT
+
+    # -- the reports' view ------------------------------------------------------------------
+    def report_view(self):
+        """The control characters named by each case's procedure (3964 or 3964R)."""
+        from .tokens import report_view
+        return report_view(self.groups)

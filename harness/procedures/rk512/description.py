@@ -492,6 +492,12 @@ class Rk512Procedure(Procedure):
         from .fuzz import FUZZ_KIT
         return FUZZ_KIT
 
+    # -- the reports' view ------------------------------------------------------------------
+    def report_view(self):
+        """The link's bytes named as 3964R names them."""
+        from ptpcert.procedures.p3964.tokens import report_view
+        return report_view(self.groups, link="3964R")
+
 
 def decode_blocks(transcript: list[dict[str, Any]], bcc: bool) -> list[dict[str, Any]]:
     """The 3964(R) blocks of a transcript in each direction, each labelled with the RK 512

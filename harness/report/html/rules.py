@@ -4,16 +4,15 @@ cannot be checked on the line with the reason; then the manual's open points wit
 reading the reference model takes and how the cases grade the others.
 
 It reads only the results object (each case carries the ids of the rules it checks) and the
-rules catalogue (:mod:`ptpcert.rules`); :mod:`ptpcert.html` calls :func:`traceability_section`.
+rules catalogue (:mod:`ptpcert.rules`); the page (:mod:`ptpcert.report.html.page`) calls
+:func:`traceability_section`.
 """
 
 from __future__ import annotations
 
-import html as _html
-from typing import Any
-
 from ptpcert import results as R
-from ptpcert.report import anchor
+from ptpcert.report.html.markup import esc
+from ptpcert.report.text import anchor
 from ptpcert.rules import Catalogue, catalogues
 
 #: worst first: the verdict a rule gets from the cases that cite it
@@ -21,10 +20,6 @@ _WORST = (R.FAIL, R.XPASS, R.ERROR, R.NON_STRICT, R.INFORMATIONAL, R.PASS, R.XFA
 NOT_CHECKED = "not run"
 UNTESTABLE = "untestable"
 NOT_APPLICABLE = "does not apply"
-
-
-def esc(s: Any) -> str:
-    return _html.escape(str(s), quote=True)
 
 
 def _badge(verdict: str) -> str:

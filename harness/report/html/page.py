@@ -1,0 +1,191 @@
+"""The HTML report's page: one self-contained file (inline CSS, inline SVG, a little inline
+JavaScript for the verdict filter; readable without it) rendered from the results object.
+
+It lays out the header (the run and the IUT's profile), the verdict filter, the distinct
+deviations, the summary by manual section, the traceability section
+(:mod:`~ptpcert.report.html.rules`), each case's section failures first
+(:mod:`~ptpcert.report.html.case`) and the legend of the STATUS codes used. The style
+sheet and the script are files of the package (``assets/``), inlined as they are.
+
+Part of :mod:`ptpcert.report.html`, whose face re-exports :func:`render` and
+:func:`write_html`.
+"""
+
+from __future__ import annotations
+
+from functools import cache
+from importlib import resources
+from typing import Any
+
+from ptpcert import results as R
+from ptpcert.report.html.case import FAILURES, case_section
+from ptpcert.report.html.markup import abbreviate_hex, badge, esc
+from ptpcert.report.html.rules import traceability_section
+from ptpcert.report.html.status import legend
+from ptpcert.report.text import anchor
+from ptpcert.view import NEUTRAL, ReportView
+
+@cache
+def asset(name: str) -> str:
+    """A file of ``assets/`` (the style sheet, the script) as text."""
+    return resources.files("ptpcert.report.html").joinpath("assets", name).read_text("utf-8")
+
+
+def _profile_rows(p: dict[str, Any]) -> list[tuple[str, str]]:
+    """The IUT's profile as (name, value) rows for people."""
+    if not p:
+        return [("profile", "—")]
+    rows: list[tuple[str, str]] = []
+    seen = set()
+
+    def take(*keys):
+        seen.update(keys)
+        return [p.get(k) for k in keys]
+
+    proc, prio = take("procedure", "priority")
+    rows.append(("procedure", f"{proc if proc is not None else '?'}, priority {prio if prio is not None else '?'}"))
+    cdt, adt = take("character_delay_ms", "acknowledgement_delay_ms")
+    rows.append(("timers", f"character delay time CDT {cdt} ms, acknowledgement delay time ADT {adt} ms"))
+    sa, ta = take("setup_attempts", "transmission_attempts")
+    rows.append(("attempts", f"{sa} connection set-up, {ta} transmission"))
+    baud, db, par, sb = take("baud_rate", "data_bits", "parity", "stop_bits")
+    rows.append(("character frame", f"{baud} baud, {db} data bits, parity {par}, {sb} stop bit{'s' if sb != 1 else ''}"))
+    st, lc, sfs = take("send_trigger", "line_conditions", "status_from_stderr")
+    rows.append(("send trigger", str(st)))
+    rows.append(("line conditions", str(lc)))
+    rows.append(("STATUS from stderr", str(sfs).lower() if isinstance(sfs, bool) else str(sfs)))
+    (tt,) = take("timer_tolerance_ms")
+    rows.append(("IUT timer tolerance", f"{tt or 0:g} ms " + ("(declared: widens the late side of windows that "
+                                                             "end on an IUT timer)" if tt else "(none declared)")))
+    xf = p.get("expected_failures") or {}
+    seen.add("expected_failures")
+    if xf:
+        rows.append(("expected failures", "; ".join(f"{k}: {v}" for k, v in xf.items())))
+    for k, v in p.items():
+        if k not in seen:
+            rows.append((k.replace("_", " "), str(v)))
+    return rows
+
+
+def _table(rows: list[tuple[str, str]], raw: bool = False) -> str:
+    return "<table>" + "".join(
+        f"<tr><th>{esc(k)}</th><td>{v if raw else esc(v)}</td></tr>" for k, v in rows) + "</table>"
+
+
+def _header(run: R.RunResult) -> str:
+    counts = run.counts()
+    n = len(run.cases)
+    verdict = run.verdict
+    heading = "ptpcert conformance report" + (f" — {run.procedure}" if run.procedure else "")
+    out = [f'<header><h1>{esc(heading)}</h1>'
+           f'<p>overall verdict {badge(verdict, "overall")} &nbsp; {n} cases: '
+           + " ".join(f'{badge(v)} {counts[v]}' for v in R.VERDICTS if counts.get(v)) + "</p>"]
+    if run.interrupted:
+        out.append('<p class="banner">The run was <b>interrupted</b>; cases not reached are marked not-run.</p>')
+    info = [("tool", f"ptpcert {run.tool_version}"),
+            ("started", run.started or "—"), ("finished", run.finished or "—"),
+            ("wall time", f"{run.wall_time:.1f} s"),
+            ("interrupted", "yes" if run.interrupted else "no"),
+            ("IUT", run.iut or "—"),
+            ("profile file", run.profile_path or "—"),
+            ("vector set", run.vector_set or "—"),
+            ("vector set hash", run.vector_set_hash or "—")]
+    if run.harness_scheduling:
+        info.append(("harness scheduling", run.harness_scheduling))
+    out.append('<div class="cols"><div><h2>Run</h2>' + _table(info) + "</div>"
+               '<div><h2>IUT profile</h2>' + _table(_profile_rows(run.profile)) + "</div></div></header>")
+    return "".join(out)
+
+
+def _filter(run: R.RunResult) -> str:
+    counts = run.counts()
+    boxes = "".join(f'<label><input type="checkbox" data-v="{esc(v)}" checked> {badge(v)} {counts[v]}</label>'
+                    for v in R.VERDICTS if counts.get(v))
+    return (f'<nav id="filter" hidden><b>show:</b> {boxes}'
+            f'<button type="button" id="expand-all">expand all</button>'
+            f'<button type="button" id="collapse-all">collapse all</button></nav>')
+
+
+def _groups(run: R.RunResult, view: ReportView) -> list[str]:
+    """The case groups of the run, in the order the view gives them."""
+    present = []
+    for c in run.cases:
+        if c.group not in present:
+            present.append(c.group)
+    return view.order(present)
+
+
+def _deviations(run: R.RunResult) -> str:
+    """The distinct deviations (failed cases grouped by root cause), before the cases."""
+    groups = run.deviations()
+    if not groups:
+        return ""
+    items = []
+    for i, g in enumerate(groups, 1):
+        links = ", ".join(f'<a href="#{esc(anchor(cid))}"><code>{esc(cid)}</code></a>' for cid in g.get("cases", []))
+        items.append(f'<li id="deviation-{i}"><b>{esc(g["description"])}</b><br><small>{links}</small></li>')
+    return (f'<section id="deviations"><h2>Distinct deviations ({len(groups)})</h2>'
+            '<p>Failed cases grouped by root cause: cases whose first divergence has the same signature '
+            '(what the tester last sent, what was due, what the IUT sent instead) form one group.</p>'
+            f'<ol>{"".join(items)}</ol></section>')
+
+
+def _summary(run: R.RunResult, view: ReportView) -> str:
+    out = [_deviations(run), '<section id="summary"><h2>Summary by manual section</h2>']
+    for g in _groups(run, view):
+        cs = [c for c in run.cases if c.group == g]
+        counts: dict[str, int] = {}
+        for c in cs:
+            counts[c.verdict] = counts.get(c.verdict, 0) + 1
+        badges = " ".join(f"{badge(v)} {counts[v]}" for v in R.VERDICTS if counts.get(v))
+        rows = "".join(
+            f'<tr data-verdict="{esc(c.verdict)}"><td>{badge(c.verdict)}</td>'
+            f'<td><a href="#{esc(anchor(c.id))}"><code>{esc(c.id)}</code></a></td><td>{esc(c.title)}</td></tr>'
+            for c in sorted(cs, key=_order_key))
+        out.append(f'<details class="group" data-group="{esc(g)}">'
+                   f'<summary><span class="gname">{esc(g or "(no group)")}</span> {len(cs)} cases: {badges}</summary>'
+                   f"<table>{rows}</table></details>")
+    bad = [c for c in ordered_cases(run) if c.verdict in FAILURES]
+    if bad:
+        out.append('<h3>Not passed</h3><table class="bad">' + "".join(
+            f'<tr data-verdict="{esc(c.verdict)}"><td>{badge(c.verdict)}</td>'
+            f'<td><a href="#{esc(anchor(c.id))}"><code>{esc(c.id)}</code></a></td>'
+            f'<td>{esc(abbreviate_hex(c.message)[:300])}</td></tr>' for c in bad) + "</table>")
+    out.append("</section>")
+    return "".join(out)
+
+
+def _order_key(c: R.CaseResult) -> int:
+    return FAILURES.index(c.verdict) if c.verdict in FAILURES else len(FAILURES)
+
+
+def ordered_cases(run: R.RunResult) -> list[R.CaseResult]:
+    """Failures first (fail, then xpass, then error, each in run order), then the rest in
+    run order."""
+    bad = sorted((c for c in run.cases if c.verdict in FAILURES), key=_order_key)
+    return bad + [c for c in run.cases if c.verdict not in FAILURES]
+
+
+
+def render(run: R.RunResult, view: ReportView | None = None) -> str:
+    """The report as one HTML string; ``view``: how the run's procedure names its bytes and
+    orders its groups (:meth:`ptpcert.procedure.Procedure.report_view`; neutral without)."""
+    view = view or NEUTRAL
+    used: set[str] = set()
+    cases = "".join(case_section(c, used, view) for c in ordered_cases(run))
+    title = f"ptpcert report: {run.iut or 'IUT'} — {run.verdict}"
+    return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+            "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
+            f"<title>{esc(title)}</title><style>\n{asset('report.css')}</style></head><body>"
+            + _header(run) + _filter(run) + _summary(run, view) + traceability_section(run)
+            + '<section id="cases"><h2>Cases (failures first)</h2>' + cases + "</section>"
+            + legend(used)
+            + f"<footer>ptpcert {esc(run.tool_version)} · results schema {esc(run.schema)} · "
+              "one self-contained file: no external resources</footer>"
+            + f"<script>\n{asset('report.js')}</script></body></html>\n")
+
+
+def write_html(result: R.RunResult, path, view: ReportView | None = None) -> None:
+    """Write the report of ``result`` to ``path`` (whole or not at all); ``view`` as for
+    :func:`render`."""
+    R.write_atomic(path, render(result, view))

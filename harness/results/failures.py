@@ -1,0 +1,176 @@
+"""What a failed case's first divergence looks like, in words that survive other runs: the
+frame it falls in (for the JUnit message, the console summary and the HTML), and its
+signature, by which :func:`root_causes` groups failed cases into distinct deviations.
+
+Part of :mod:`ptpcert.results`: :meth:`ptpcert.results.run.RunResult.deviations` keeps the
+groups; the views show them.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Any, Callable, Iterable, Mapping
+
+from ptpcert.results.cases import FAIL, CaseResult
+from ptpcert.results.reading import is_kind
+from ptpcert.results.transcripts import wire_runs
+
+
+def divergence_frame(c: CaseResult) -> dict[str, Any] | None:
+    """The frame the case's first divergence falls in, or None: the one the run marked
+    ``diverged``; for results without the mark, the IUT's frame (else the tester's) whose
+    span holds the divergence's time."""
+    if c.divergence is None:
+        return None
+    for f in c.frames:
+        if f.get("diverged"):
+            return f
+    t = float(c.divergence.time)
+    hits = [f for f in c.frames if is_kind(f.get("t0"), (int, float)) and is_kind(f.get("t1"), (int, float))
+            and float(f["t0"]) - 1e-6 <= t <= float(f["t1"]) + 1e-6]
+    hits.sort(key=lambda f: f.get("dir") != "iut")
+    return hits[0] if hits else None
+
+
+def divergence_frame_text(c: CaseResult) -> str:
+    """The divergence's frame in words: 'in the IUT's frame "response REATEL 0Ch -> ...",
+    expected "response REATEL 14h -> ..."' ('during the tester's frame "..."' when it
+    falls in one of the tester's); '' when it falls in no frame."""
+    f = divergence_frame(c)
+    if f is None:
+        return ""
+    where = "in the IUT's" if f.get("dir") == "iut" else "during the tester's"
+    text = f"{where} frame \"{f.get('label', '?')}\""
+    exp = f.get("expected")
+    if exp and exp != f.get("label"):
+        text += f", expected \"{exp}\""
+    return text
+
+
+# ------------------------------------------------------------------ root causes
+#: the names of a case's bytes (its params -> {byte: name}; a procedure's view gives them, e.g.
+#: the characters that steer its exchanges): a lone stimulus byte with a name is a class of its own
+Names = Callable[[Mapping[str, Any]], Mapping[int, str]]
+_HEX = re.compile(r"^(?:[0-9A-F]{2}(?:\*\d+)?)(?: [0-9A-F]{2}(?:\*\d+)?)*$")
+
+
+def _bytes_word(data: bytes) -> str:
+    """Up to three bytes in hex; a longer run (a block, whose data differ from case to case)
+    as "a block"."""
+    if not data:
+        return "nothing"
+    if len(data) <= 3:
+        return " ".join(f"{b:02X}" for b in data)
+    return "a block"
+
+
+def _stimulus_word(c: CaseResult, until: float, names: Names | None = None) -> str:
+    """What the tester sent last before ``until`` (case time), as a class that survives other
+    payloads: a byte ``names`` names by that name (the characters that steer the procedure),
+    BREAK, a corrupted character, a block (more than one byte at once), any other character;
+    "" at the start."""
+    last = None
+    for t, d, kind, value, _ in wire_runs(c.transcript):
+        if t > until + 1e-9:
+            break
+        if d == "tester":
+            last = (kind, value)
+    if last is None:
+        return ""
+    kind, value = last
+    if kind == "break":
+        return "BREAK"
+    if kind == "char_error":
+        return "corrupted character"
+    data = bytes(value)
+    if len(data) == 1:
+        return (names(c.params) if names is not None else {}).get(data[0], "character")
+    return "block"
+
+
+def _words(text: str) -> str:
+    """Free text without what changes from run to run: times, counts and positions."""
+    text = re.sub(r"^step \d+: ", "", text)
+    text = re.sub(r" \(reported: .*$", "", text)
+    text = re.sub(r"-?\d+(?:\.\d+)? ?(?:ms|s)\b", "T", text)
+    return re.sub(r"(?<![#\w])\d+(?![#\w])", "N", text).strip()
+
+
+def failure_signature(c: CaseResult, names: Names | None = None) -> tuple[str, str, str]:
+    """The signature of a failed case's first divergence, as (context, expected, observed):
+    what the tester had last sent, what the IUT was expected to send and what it sent
+    instead, in words that survive other payloads and other timings (a block is "a
+    block", a byte position inside a block's data is not kept, times are not kept).
+    Cases with the same signature fail for one root cause. ``names``: the names of the
+    case's bytes for the tester's last stimulus (:attr:`ptpcert.view.ReportView.names`)."""
+    d = c.divergence
+    if d is None:
+        return "", "", _words(c.message)
+    step = c.steps[d.step] if 0 <= d.step < len(c.steps) else {}
+    raw = str(step.get("data", "")) if step.get("kind") == "expect" else ""
+    try:
+        want = bytes.fromhex(raw) if raw else b""
+    except ValueError:
+        want = b""
+    expected = _bytes_word(want) if want else _words(d.expected)
+    obs = d.observed
+    if d.expected.endswith("block(s) from the IUT"):   # the echo the epilogue waits for
+        intact = re.match(r"^received (\d+) intact block", obs)
+        return "", "its echo of the block", (
+            "sends no intact block" if intact and intact.group(1) == "0" else
+            "sends fewer intact blocks" if intact else _words(obs))
+    m = re.match(r"^received ([0-9A-F]{2})$", obs)
+    n = re.match(r"^([0-9A-F]{2}) came .* too (late|early)$", obs)
+    k = re.match(r"^byte (\d+) is ([0-9A-F]{2}) \(after .*\)$", obs)
+    if m:
+        observed = f"sends {m.group(1)}"
+    elif n:
+        observed = f"sends {n.group(1)} too {n.group(2)}"
+    elif k:
+        pos, byte = int(k.group(1)), k.group(2)
+        from_end = len(want) - pos if want else -1
+        if len(want) <= 3:
+            observed = f"sends {byte} as byte {pos}"
+        elif from_end == 0:
+            observed = "sends the block with another last byte (its BCC or end)"
+        elif 0 < from_end <= 2:
+            observed = f"sends the block with another byte {from_end + 1} from its end"
+        else:
+            observed = "sends the block with other data"
+    elif obs == "nothing received":
+        observed = "sends nothing"
+    elif obs.startswith("got ") and ", then nothing" in obs:
+        observed = "stops in the middle"
+    elif obs.startswith("it still sent "):
+        observed = "goes on sending after it must stop"
+    elif obs.startswith("it sent "):
+        observed = "sends " + _bytes_word(bytes.fromhex(obs[8:].replace("…", "").strip()) if _HEX.match(
+            obs[8:].strip()) and "*" not in obs else b"\x00" * 4)
+    else:
+        observed = _words(obs)
+    if n:   # the right byte at the wrong time: the IUT's timer, whatever the tester sent before
+        return "", expected, observed
+    return _stimulus_word(c, d.time, names), expected, observed
+
+
+def describe_signature(sig: tuple[str, str, str], count: int) -> str:
+    """A group of ``count`` cases with signature ``sig`` in one sentence, for people."""
+    context, expected, observed = sig
+    head = f"{count} case{'s' if count != 1 else ''}: "
+    if not expected:
+        return head + observed
+    where = f"after the tester's {context}, " if context else ""
+    return head + f"{where}the IUT {observed} where {expected} is due"
+
+
+def root_causes(cases: Iterable[CaseResult], names: Names | None = None) -> list[dict[str, Any]]:
+    """The failed cases grouped by the signature of their first divergence
+    (:func:`failure_signature`, with ``names``): one group per distinct deviation, the
+    largest first, each with its description, the number of cases it explains and their ids."""
+    groups: dict[tuple[str, str, str], list[str]] = {}
+    for c in cases:
+        if c.verdict == FAIL:
+            groups.setdefault(failure_signature(c, names), []).append(c.id)
+    ordered = sorted(groups.items(), key=lambda kv: -len(kv[1]))
+    return [{"signature": list(sig), "description": describe_signature(sig, len(ids)), "count": len(ids),
+             "cases": ids} for sig, ids in ordered]

@@ -1,0 +1,59 @@
+"""Report files written whole or not at all, and the check that a report can be written
+before a run starts (so that no run ends without its reports).
+
+Part of :mod:`ptpcert.results`; the JSON results, JUnit and HTML views write through
+:func:`write_atomic`. Standard library only.
+"""
+
+from __future__ import annotations
+
+import os
+import secrets
+from pathlib import Path
+
+def write_atomic(path: str | Path, text: str) -> None:
+    """Write ``text`` to ``path`` whole or not at all: into a temporary file in the same
+    directory, renamed over ``path`` when complete; the temporary file is removed whatever
+    goes wrong."""
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    tmp = p.parent / f".{p.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
+    try:
+        with open(tmp, "x", encoding="utf-8") as f:
+            f.write(text)
+        os.replace(tmp, p)
+    except BaseException:
+        try:
+            tmp.unlink()
+        except OSError:
+            pass
+        raise
+
+
+def report_path_problem(path: str | Path) -> str | None:
+    """Why a report cannot be written to ``path``, or None when it can. Checked before a
+    run starts, so that no run ends without its reports: missing directories are created,
+    and a file is created and removed in the target directory."""
+    text = str(path)
+    if not text.strip():
+        return "is empty; give a file name"
+    p = Path(path)
+    if p.is_dir():
+        return "is a directory; give a file name in it"
+    if p.exists() and not p.is_file():
+        return "exists and is not a regular file"
+    try:
+        p.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        return f"its directory {p.parent} cannot be created ({exc.strerror})"
+    probe = p.parent / f".{p.name}.{os.getpid()}.{secrets.token_hex(4)}.probe"
+    try:
+        with open(probe, "x", encoding="utf-8"):
+            pass
+    except OSError as exc:
+        return f"no file can be written in {p.parent} ({exc.strerror})"
+    try:
+        probe.unlink()
+    except OSError:
+        pass
+    return None
