@@ -19,7 +19,7 @@ from rk512_profiles import rk_profile
 from ptpcert import report
 from ptpcert import results as R
 from ptpcert.registry import by_id
-from ptpcert.procedures.rk512.description import decode_blocks
+from ptpcert.procedures.rk512.frames import decode_blocks
 from ptpcert.procedures.rk512.model import codec as rk
 from ptpcert.report import html as H
 from ptpcert.runner import Runner, RunOptions

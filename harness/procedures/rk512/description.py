@@ -36,6 +36,8 @@ from ptpcert.procedure import MacroStep, Mutant, Procedure, ProcedureError
 from ptpcert.procedures.p3964.link import LINK_KEYS, PRIME, block_end, link_values, prime_steps
 from ptpcert.procedures.p3964.model import codec
 from ptpcert.procedures.p3964.model.params import T_BLOCK, T_NAKTIM, Params3964
+from ptpcert.procedures.rk512.frames import decode_blocks, describe_frame
+from ptpcert.procedures.rk512.iut import iut_host, line_matches, script_lines, setup_host_args
 
 # The RK 512 model is imported where it is used, so that a 3964 IUT process (ptpcert iut)
 # does not load it at its start.
@@ -58,64 +60,6 @@ _RK_FIELDS = ("link", "response_time_ms", "roles", "requests", "memory", "db_ran
 _EMPTY_SCRIPT = "requests-none.txt"
 RECEIVE = MacroStep(keys=frozenset({"after", "within", "optional", "absent_grade", "or", "or_grade", "since", "note"}),
                     max_data=codec.MAX_BLOCK, defaults={"within": "ADT"})
-
-
-def describe_frame(frame: bytes) -> str:
-    from ptpcert.procedures.rk512.model.codec import describe
-    return describe(frame)
-
-
-def iut_host(station, script="", **kw):
-    """The RK 512 station with its application, reporting as an RK 512 IUT does: besides
-    the STATUS lines, ``RESULT``/``FETCHED`` lines for the requests (``report_line``)."""
-    from ptpcert.procedures.rk512.model import Rk512Host
-    from ptpcert.procedures.rk512.model.events import RequestResult, interface_lines
-
-    class Rk512IutHost(Rk512Host):
-        def report_line(self, event) -> str | None:
-            if isinstance(event, RequestResult):
-                return "\n".join(interface_lines(event))
-            return None
-
-    return Rk512IutHost(station, script, **kw)
-
-
-def script_lines(vector) -> list[str]:
-    """The request-script lines of a vector (``extra.requests``)."""
-    if vector is None:
-        return []
-    reqs = vector.extra.get("requests", [])
-    if isinstance(reqs, str):
-        reqs = reqs.splitlines()
-    return [str(x) for x in reqs]
-
-
-def _setup_host_args(vector) -> dict[str, Any]:
-    """The set-up of a vector as the host's arguments (cpu_stop, cf_set)."""
-    from ptpcert.procedures.rk512.model import parse_cf_set
-    out: dict[str, Any] = {"cpu_stop": False, "cf_set": []}
-    if vector is None or vector.setup is None:
-        return out
-    name, args = vector.setup
-    if name == "cpu_stop":
-        out["cpu_stop"] = True
-    elif name == "flag_set":
-        byte, bit, ms = parse_cf_set(f"{args.get('flag', '')}@{args.get('reset_ms', 0)}")
-        out["cf_set"] = [(byte, bit, ms)]
-    return out
-
-
-def _line_matches(pattern: str, line: str) -> bool:
-    for alt in pattern.split(" || "):
-        alt = " ".join(alt.split()).upper()
-        have = " ".join(line.split()).upper()
-        if alt.endswith(" *"):
-            head = alt[:-2]
-            if have.startswith(head + " ") and all(c in "0123456789ABCDEF" for c in have[len(head) + 1:]):
-                return True
-        elif alt == have:
-            return True
-    return False
 
 
 class Rk512Procedure(Procedure):
@@ -265,7 +209,7 @@ class Rk512Procedure(Procedure):
         """The station with its application: the vector's request script (none without a
         vector: the tester's partner) and its set-up."""
         script = "\n".join(script_lines(vector))
-        return iut_host(station, script, **_setup_host_args(vector))
+        return iut_host(station, script, **setup_host_args(vector))
 
     def apps(self) -> tuple[str, ...]:
         return ("script",)
@@ -440,7 +384,7 @@ class Rk512Procedure(Procedure):
             if i >= len(got):
                 return [f"expected the line {w!r}; the IUT reported "
                         + (f"only {len(got)} RESULT/FETCHED line(s)" if got else "no RESULT/FETCHED line")]
-            if not _line_matches(w, got[i]):
+            if not line_matches(w, got[i]):
                 return [f"expected {w!r}; the IUT reported {got[i]!r}"]
         if len(got) > len(want):
             return [f"the IUT reported more than expected: {got[len(want)]!r}"]
@@ -497,93 +441,3 @@ class Rk512Procedure(Procedure):
         """The link's bytes named as 3964R names them."""
         from ptpcert.procedures.p3964.tokens import report_view
         return report_view(self.groups, link="3964R")
-
-
-def decode_blocks(transcript: list[dict[str, Any]], bcc: bool) -> list[dict[str, Any]]:
-    """The 3964(R) blocks of a transcript in each direction, each labelled with the RK 512
-    frame it carries (:func:`ptpcert.model.rk512.codec.describe`): a block begins after the
-    other side's DLE answers the sender's STX, ends with DLE ETX (3964R: and the BCC), and
-    is followed by the other side's DLE (accepted) or NAK (refused). Blocks cut off by the
-    other side, with a DLE followed by another character, or not finished when the
-    transcript ends (a case stops at its first divergence) are labelled as such."""
-    out: list[dict[str, Any]] = []
-    state: dict[str, Any] = {"iut": None, "tester": None}   # None, "setup", a block dict
-    waiting: dict[str, dict | None] = {"iut": None, "tester": None}  # a finished block awaiting its answer
-    for e in transcript:
-        d = e.get("dir")
-        if d not in ("iut", "tester"):
-            continue
-        other = "tester" if d == "iut" else "iut"
-        t = e.get("t", 0.0)
-        kind = e.get("kind")
-        blk = state[other]
-        if isinstance(blk, dict):   # the other side interrupts a block it is sending
-            out.append({"dir": other, "t0": blk["t0"], "t1": t,
-                        "label": f"block cut off after {len(blk['raw'])} bytes"})
-            state[other] = None
-        own = state[d]
-        if kind != "byte":
-            if isinstance(own, dict):
-                own["error"] = "a character error" if kind == "char_error" else "a BREAK"
-            continue
-        b = e["byte"]
-        if isinstance(own, dict):
-            own["raw"].append(b)
-            own["t1"] = t
-            if own["bcc_next"]:
-                x = 0
-                for c in own["raw"][:-1]:
-                    x ^= c
-                _finish(out, own, waiting, d, bcc_ok=(x == b))
-                state[d] = None
-            elif own["esc"]:
-                own["esc"] = False
-                if b == codec.DLE:
-                    own["data"].append(codec.DLE)
-                elif b == codec.ETX:
-                    if bcc:
-                        own["bcc_next"] = True
-                    else:
-                        _finish(out, own, waiting, d, bcc_ok=None)
-                        state[d] = None
-                else:
-                    own["error"] = own.get("error") or f"DLE followed by {b:02X}"
-                    own["data"].append(b)
-            elif b == codec.DLE:
-                own["esc"] = True
-            else:
-                own["data"].append(b)
-            continue
-        w = waiting[other]
-        if w is not None and b in (codec.DLE, codec.NAK):
-            w["label"] += ", accepted (DLE)" if b == codec.DLE else ", refused (NAK)"
-            waiting[other] = None
-            continue
-        if b == codec.STX:
-            state[d] = "setup"
-        elif b == codec.DLE and state[other] == "setup":
-            state[other] = {"t0": t, "t1": t, "raw": bytearray(), "data": bytearray(), "esc": False,
-                            "bcc_next": False, "error": None}
-        elif b == codec.NAK and state[other] == "setup":
-            state[other] = None
-    for d in ("tester", "iut"):   # a block the transcript ends in (the case stopped there)
-        blk = state[d]
-        if isinstance(blk, dict) and blk["raw"]:
-            label = describe_frame(bytes(blk["data"]))
-            out.append({"dir": d, "t0": blk["t0"], "t1": blk["t1"],
-                        "label": f"{label}, unfinished after {len(blk['raw'])} byte{'s' if len(blk['raw']) != 1 else ''}",
-                        "frame": bytes(blk["data"]).hex(" ").upper()})
-    out.sort(key=lambda f: f["t0"])
-    return out
-
-
-def _finish(out: list, blk: dict, waiting: dict, d: str, bcc_ok: bool | None) -> None:
-    frame = bytes(blk["data"])
-    label = describe_frame(frame)
-    if blk.get("error"):
-        label += f" ({blk['error']})"
-    if bcc_ok is False:
-        label += " (BCC wrong)"
-    entry = {"dir": d, "t0": blk["t0"], "t1": blk["t1"], "label": label, "frame": frame.hex(" ").upper()}
-    out.append(entry)
-    waiting[d] = entry
