@@ -505,7 +505,7 @@ def test_full_suite_and_large_cases_stay_under_2mb(full_run):
 
 
 def test_cli_report_renders_saved_results(full_run, tmp_path):
-    from ptpcert.cli.run import cmd_report
+    from ptpcert.cli.reports import cmd_report
 
     j = tmp_path / "r.json"
     mixed_run(full_run).write_json(j)
@@ -520,7 +520,7 @@ def test_cli_report_renders_saved_results(full_run, tmp_path):
 def test_cli_report_shows_saved_results_with_the_view_of_their_procedure(tmp_path, title, named):
     """``ptpcert report`` finds the procedure by the title the results carry; without one it
     falls back to the neutral view."""
-    from ptpcert.cli.run import cmd_report
+    from ptpcert.cli.reports import cmd_report
 
     run = R.RunResult(tool_version="t", started="now", procedure=title, cases=[made_case()])
     j, out = tmp_path / "r.json", tmp_path / "r.html"

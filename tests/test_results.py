@@ -89,7 +89,7 @@ def test_a_suite_run_is_far_smaller_as_runs_and_renders_as_before():
 def test_report_reads_schema_1_and_schema_2(tmp_path):
     from argparse import Namespace
 
-    from ptpcert.cli.run import cmd_report
+    from ptpcert.cli.reports import cmd_report
 
     run = sim_run(["3964R.FIG2-6.*", "3964R.D0*"])
     data = json.loads(run.to_json())

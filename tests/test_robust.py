@@ -330,7 +330,7 @@ def test_a_10_mb_flood_over_the_whole_suite_gives_small_reports_quickly(tmp_path
         from bench_reports import flood_run
     finally:
         sys.path.pop(0)
-    from ptpcert.cli.run import write_reports
+    from ptpcert.cli.reports import write_reports
 
     result = flood_run(10_000_000, None)
     ran = [c for c in result.cases if c.verdict != R.UNSUPPORTED]

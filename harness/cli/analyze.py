@@ -164,7 +164,7 @@ class ConsoleListener:
 def _finish(result, args, t0: float, view=None) -> int:
     from ptpcert import report as rep
     from ptpcert import results as R
-    from ptpcert.cli.run import write_reports
+    from ptpcert.cli.reports import write_reports
 
     result.wall_time = round(time.monotonic() - t0, 3)
     result.finished = now()

@@ -156,10 +156,16 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     m.add_argument("--svg", metavar="FILE", help="draw the state machine into FILE (a self-contained SVG)")
     m.set_defaults(func=_model)
 
-    from ptpcert.cli import run as cli_run
-    cli_run.add_commands(sub)
+    from ptpcert.cli import iut as cli_iut
+    cli_iut.add_commands(sub)
     if command == "iut":
         return ap
+    from ptpcert.cli import fuzz as cli_fuzz
+    from ptpcert.cli import reports as cli_reports
+    from ptpcert.cli import run as cli_run
+    cli_run.add_commands(sub)
+    cli_fuzz.add_commands(sub)
+    cli_reports.add_commands(sub)
     from ptpcert.cli import capture as cli_capture
     cli_capture.add_commands(sub)
     from ptpcert.cli import analyze as cli_analyze
@@ -177,7 +183,7 @@ def main(argv: list[str] | None = None) -> int:
         ap.print_help()
         return 2
     # the ptpcert program itself (argv from the command line) ends with the command; a
-    # caller that hands in argv goes on in the same process (see cli_run.Interrupts)
+    # caller that hands in argv goes on in the same process (see cli.run.Interrupts)
     args.process_exits_after = argv is None
     try:
         return args.func(args)

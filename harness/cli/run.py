@@ -1,4 +1,6 @@
-"""Commands that drive an IUT: ``run``, ``iut`` and ``report``."""
+"""``ptpcert run``: the suite against an IUT, with its reports; and what a command that drives
+an IUT needs: reaching it (checked before the first case), and signals that stop the work
+without costing the reports."""
 
 from __future__ import annotations
 
@@ -7,17 +9,16 @@ import signal
 import sys
 
 from ptpcert import __version__
-from ptpcert.cli.common import load_profile, now, number
 from ptpcert.priority import MODES as PRIORITY_MODES
+
+from .common import load_profile, now, number
+from .reports import report_paths_problem, write_reports
 
 #: the bounds of the numeric options (the messages name them)
 TOLERANCE_MS = number(float, 0, 10_000, "milliseconds")
 STARTUP_S = number(float, 0.1, 600, "seconds")
 MAX_FAILURES = number(int, 0, None, "(0: no limit)")
 EDGE_ATTEMPTS = number(int, 1, 100)
-BUDGET_S = number(float, 1, 7 * 24 * 3600, "seconds")
-MAX_ACTIONS = number(int, 1, 100)
-WORKERS = number(int, 1, 64)
 
 
 def JOBS(text: str) -> int:
@@ -32,6 +33,7 @@ def JOBS(text: str) -> int:
 
 
 def add_commands(sub) -> None:
+    """The ``run`` command."""
     r = sub.add_parser("run", help="run the suite against an implementation under test",
                        description="Run the conformance cases against an IUT and write the reports. "
                                    "Exit status: 0 nothing failed, 1 a case failed or xpassed, "
@@ -70,91 +72,6 @@ def add_commands(sub) -> None:
                         "stays in the normal class")
     r.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
     r.set_defaults(func=cmd_run)
-
-    from ptpcert.registry import all_names, procedures
-    i = sub.add_parser("iut", help="run the bundled reference implementation (the model, in real time)",
-                       description="The reference model as a real-time station on stdin/stdout (or --port), "
-                                   "with its application. STATUS events go to stderr as 'STATUS 16#XXXX' lines.")
-    i.add_argument("--procedure", choices=all_names(), default=None,
-                   help=f"the procedure (default {procedures()[0].names[0]})")
-    i.add_argument("--cdt-ms", type=int, default=None, help="character delay time (default: the procedure's)")
-    i.add_argument("--baud", type=int, default=9600, help="baud rate; 0: do not pace the output")
-    i.add_argument("--data-bits", type=int, choices=[7, 8], default=8)
-    i.add_argument("--parity", choices=["none", "odd", "even"], default="even")
-    i.add_argument("--stop-bits", type=int, choices=[1, 2], default=1)
-    i.add_argument("--parmrk", action="store_true",
-                   help="the input marks line conditions as termios PARMRK does (FF 00 00 BREAK, FF 00 xx error, FF FF data FF)")
-    i.add_argument("--port", metavar="URL", help="use this serial port (pyserial URL or device) instead of stdin/stdout")
-    i.add_argument("--app", default=None,
-                   help="the application: "
-                        + "; ".join(f"{p.title}: {', '.join(p.apps())} (default {p.apps()[0]})" for p in procedures()))
-    i.add_argument("--mutant", metavar="NAME", help="run a deliberately broken variant (see --list-mutants)")
-    i.add_argument("--list-mutants", action="store_true", help="list the broken variants and exit")
-    i.add_argument("--send", action="append", default=[], metavar="HEX",
-                   help="data the application hands over at start-up (repeatable; what it is, the procedure's "
-                        "options say)")
-    i.add_argument("-v", "--verbose", action="store_true", help="also log deliveries and job results on stderr")
-    for proc in procedures():
-        proc.add_iut_arguments(i.add_argument_group(f"{proc.title} options"))
-    i.set_defaults(func=cmd_iut)
-
-    f = sub.add_parser("fuzz", help="fuzz an IUT with generated partner behaviour, the model as oracle",
-                       description="Generate partner behaviour (hypothesis), predict a conforming IUT's answers "
-                                   "with the reference model, and report every divergence as a shrunk "
-                                   "transcript, saved as a vector. Exit status: 0 nothing found, 1 findings, "
-                                   "2 bad usage or a harness error.")
-    f.add_argument("--iut", required=True, metavar="URL", help="as for 'ptpcert run'")
-    f.add_argument("--profile", required=True, metavar="FILE", help="the IUT profile (TOML)")
-    f.add_argument("--budget", type=BUDGET_S, default=60.0, metavar="SECONDS",
-                   help="time budget (default 60; 1 to 604800, a week)")
-    f.add_argument("--seed", type=int, default=None, help="seed (printed, so any run can be replayed)")
-    f.add_argument("--export", metavar="DIR", default=None,
-                   help="where findings are written as vectors (default: ./vectors/regressions in the current directory)")
-    f.add_argument("--settings", choices=["ptpcert-quick", "ptpcert-thorough"], default="ptpcert-quick",
-                   help="hypothesis settings profile (both extend hypothesis's 'ci' profile)")
-    f.add_argument("--database", metavar="DIR",
-                   help="hypothesis example database, to share a campaign between runs or machines")
-    f.add_argument("--max-actions", type=MAX_ACTIONS, default=6, help="tester actions per example (default 6; 1 to 100)")
-    f.add_argument("--workers", type=WORKERS, default=1, metavar="N",
-                   help="example streams at once, each a process with its own IUT instance (exec:, pty:, "
-                        "sim:), all sharing the example database (default 1; 1 to 64)")
-    f.set_defaults(func=cmd_fuzz)
-
-    rep = sub.add_parser("report", help="render a saved results object (JSON) as HTML or JUnit")
-    rep.add_argument("results", metavar="RESULTS.json")
-    rep.add_argument("--html", metavar="PATH")
-    rep.add_argument("--junit", metavar="PATH")
-    rep.set_defaults(func=cmd_report)
-
-
-def cmd_iut(args) -> int:
-    from ptpcert.iut import run_iut
-    from ptpcert.registry import by_name, procedures
-
-    proc = by_name(args.procedure) if args.procedure else procedures()[0]
-    args.procedure = args.procedure or proc.names[0]
-    if args.list_mutants:
-        for name, m in proc.mutants().items():
-            print(f"{name:<28} {m.rule}")
-        return 0
-    if args.mutant and args.mutant not in proc.mutants():
-        print(f"ptpcert iut: unknown mutant {args.mutant!r} for {proc.title}; --list-mutants shows them",
-              file=sys.stderr)
-        return 2
-    if args.app is None:
-        args.app = proc.apps()[0]
-    if args.app not in proc.apps():
-        print(f"ptpcert iut: --app {args.app!r}: allowed values are {', '.join(proc.apps())}", file=sys.stderr)
-        return 2
-    from ptpcert.procedure import ProcedureError
-    try:
-        params = proc.params_from_iut(args)
-        host = proc.iut_host(params, args)
-    except ProcedureError as exc:
-        print(f"ptpcert iut: {exc}", file=sys.stderr)
-        return 2
-    signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
-    return run_iut(host, proc.line(params), parmrk=args.parmrk, port=args.port, verbose=args.verbose)
 
 
 class Interrupts:
@@ -342,61 +259,7 @@ def vector_set_label(extra, only: bool) -> str:
     return " + ".join(parts + [str(d) for d in extra])
 
 
-def report_paths_problem(args, kinds: tuple[str, ...], reading: str | None = None) -> str | None:
-    """Why one of the report options (``--junit`` ...) cannot be written, checked before
-    anything runs; None when all can."""
-    from ptpcert.results import report_path_problem
-
-    seen: dict[str, str] = {}
-    if reading is not None:
-        seen[os.path.realpath(reading)] = "the results file read"
-    for kind in kinds:
-        path = getattr(args, kind, None)
-        if path is None:
-            continue
-        real = os.path.realpath(path) if str(path).strip() else ""
-        if real in seen:
-            return f"--{kind} {path}: is also {seen[real]}; give each report its own file"
-        seen[real] = f"--{kind}"
-        problem = report_path_problem(path)
-        if problem:
-            return f"--{kind} {path}: {problem}"
-    return None
-
-
-def write_reports(result, args, cmd: str, view=None) -> set[str]:
-    """Write the reports the options ask for: JUnit first (what CI reads), then JSON and
-    HTML, each whole or not at all. Returns the kinds written; a report that cannot be
-    written is said on stderr and does not stop the others. ``view``: the procedure's
-    :class:`~ptpcert.view.ReportView` for the HTML (None: neutral)."""
-    from ptpcert import capture as C
-    from ptpcert import report as rep
-    from ptpcert import results as R
-    from ptpcert.report.html import write_html
-
-    def write_pcap(r, p) -> None:       # run --pcap: the run's wire traffic as one capture
-        C.save(C.from_results(r), p, "pcap")
-
-    if view is not None and not result.root_causes:   # the procedure names the bytes that steer it
-        result.root_causes = R.root_causes(result.cases, view.names)
-    writers = (("junit", rep.write_junit), ("json", lambda r, p: r.write_json(p)),
-               ("html", lambda r, p: write_html(r, p, view)), ("pcap", write_pcap))
-    written = set()
-    for kind, write in writers:
-        path = getattr(args, kind, None)
-        if not path:
-            continue
-        try:
-            write(result, path)
-            written.add(kind)
-        except OSError as exc:
-            print(f"ptpcert {cmd}: --{kind} {path}: cannot be written ({exc.strerror or exc})", file=sys.stderr)
-        except C.CaptureError as exc:
-            print(f"ptpcert {cmd}: --{kind} {path}: {exc}", file=sys.stderr)
-    return written
-
-
-def _connect(cmd: str, url: str, profile):
+def connect(cmd: str, url: str, profile):
     """The transport factory for ``url``, checked by :func:`preflight`, or None after
     telling why the IUT cannot be reached (the caller exits 2)."""
     from ptpcert.transport import TransportError, make_factory
@@ -431,147 +294,3 @@ def preflight(url: str, factory, profile) -> None:
                              + (f": {exc.stderr_tail.strip()[-600:]}" if exc.stderr_tail.strip() else "")) from None
     finally:
         tr.close()
-
-
-def cmd_fuzz(args) -> int:
-    import random
-    import time
-
-    from ptpcert.fuzz import Campaign, export, register_profiles
-    from ptpcert.paths import findings_dir
-    from ptpcert.runner import Runner, RunOptions
-
-    register_profiles()
-
-    profile = load_profile("fuzz", args.profile)
-    if profile is None:
-        return 2
-    seed = args.seed if args.seed is not None else random.SystemRandom().randrange(1, 2**31)
-    out_dir = args.export or str(findings_dir())
-    if args.workers > 1:
-        if not args.iut.startswith(("exec:", "pty:", "sim:")):
-            print(f"ptpcert fuzz: --workers {args.workers} needs an IUT that can be started several times "
-                  f"(exec:, pty:, sim:); {args.iut} is one line", file=sys.stderr)
-            return 2
-        try:
-            from ptpcert.fuzz import open_database
-            open_database(args.database)
-        except (ValueError, OSError) as exc:
-            print(f"ptpcert fuzz: {exc}", file=sys.stderr)
-            return 2
-        return _fuzz_workers(args, profile, seed, out_dir)
-    with Interrupts(args) as interrupts:
-        camp = None
-        interrupted = False
-        factory = None
-        try:
-            factory = _connect("fuzz", args.iut, profile)
-            if factory is None:
-                interrupts.disarm()
-                return 2
-            print(f"ptpcert fuzz {__version__}: iut {args.iut}, profile {args.profile}")
-            print(f"seed {seed}, settings {args.settings}, budget {args.budget:g} s"
-                  + (f", database {args.database}" if args.database else ""))
-            print(f"replay: ptpcert fuzz --iut '{args.iut}' --profile {args.profile} --seed {seed} "
-                  f"--settings {args.settings} --budget {args.budget:g}", flush=True)
-            kit = profile.procedure.fuzz_kit()
-            check = bool(kit is not None and kit.check_reports and profile.status_from_stderr)
-            runner = Runner(factory, profile, RunOptions(check_status=check, late_ms=50.0))
-            camp = Campaign(profile, runner, args.budget, seed, args.settings, args.database,
-                            progress=lambda line: print(line, flush=True), max_actions=args.max_actions)
-            camp.run()
-            interrupts.disarm()
-        except KeyboardInterrupt:
-            interrupted = True
-        interrupts.disarm()
-        if factory is not None:
-            factory.shutdown()
-        interrupted = interrupted or interrupts.count > 0
-        if camp is None:
-            return 2
-        try:
-            paths = export(camp.findings, out_dir) if camp.findings else []
-        except OSError as exc:
-            print(f"ptpcert fuzz: findings cannot be written to {out_dir} ({exc.strerror or exc})", file=sys.stderr)
-            paths, interrupted = [], True
-    elapsed = time.monotonic() - camp.started if camp.started else 0.0
-    print(f"\n{camp.examples} examples in {elapsed:.1f} s ({camp.examples / max(elapsed, 1e-9):.1f}/s), "
-          f"{len(camp.findings)} finding(s), {camp.informational} divergence(s) explained by another reading, "
-          f"{camp.not_reproduced} not reproduced, {camp.void} void (interruption reached the IUT late)"
-          + (", INTERRUPTED" if interrupted else ""))
-    for p in paths:
-        print(f"  written: {p}")
-    if interrupted:
-        return 2
-    return 1 if camp.findings else 0
-
-
-def _fuzz_workers(args, profile, seed: int, out_dir: str) -> int:
-    """``ptpcert fuzz --workers N``: N campaigns at once (:func:`ptpcert.fuzz.run_workers`)."""
-    from ptpcert.fuzz import WorkerSpec, export, run_workers
-
-    factory = _connect("fuzz", args.iut, profile)   # the IUT starts: checked once, here
-    if factory is None:
-        return 2
-    factory.shutdown()
-    print(f"ptpcert fuzz {__version__}: iut {args.iut}, profile {args.profile}, {args.workers} workers")
-    print(f"seed {seed}, settings {args.settings}, budget {args.budget:g} s"
-          + (f", database {args.database}" if args.database else ""))
-    print(f"replay: ptpcert fuzz --iut '{args.iut}' --profile {args.profile} --seed {seed} "
-          f"--settings {args.settings} --budget {args.budget:g} --workers {args.workers}", flush=True)
-    spec = WorkerSpec(args.iut, str(args.profile), args.budget, seed, args.settings, args.database,
-                      args.max_actions, args.workers)
-    with Interrupts(args) as interrupts:
-        res = run_workers(spec, progress=lambda line: print(line, flush=True))
-        interrupts.disarm()
-    interrupted = res.interrupted or interrupts.count > 0
-    for i, why in res.errors:
-        print(f"ptpcert fuzz: worker {i}: {why}", file=sys.stderr)
-    try:
-        paths = export(res.findings, out_dir) if res.findings else []
-    except OSError as exc:
-        print(f"ptpcert fuzz: findings cannot be written to {out_dir} ({exc.strerror or exc})", file=sys.stderr)
-        paths, interrupted = [], True
-    print(f"\n{res.examples} examples in {res.elapsed:.1f} s ({res.examples / max(res.elapsed, 1e-9):.1f}/s, "
-          f"{args.workers} workers), {len(res.findings)} finding(s), {res.informational} divergence(s) "
-          f"explained by another reading, {res.not_reproduced} not reproduced, {res.void} void "
-          "(interruption reached the IUT late)" + (", INTERRUPTED" if interrupted else ""))
-    for p in paths:
-        print(f"  written: {p}")
-    if interrupted or (res.errors and not res.findings):
-        return 2
-    return 1 if res.findings else 0
-
-
-def cmd_report(args) -> int:
-    from ptpcert import report as rep
-    from ptpcert.results import ResultsError, RunResult
-
-    problem = report_paths_problem(args, ("junit", "html"), reading=args.results)
-    if problem:
-        print(f"ptpcert report: {problem}", file=sys.stderr)
-        return 2
-    try:
-        result = RunResult.read_json(args.results)
-    except ResultsError as exc:
-        print(f"ptpcert report: {exc}", file=sys.stderr)
-        return 2
-    if not args.html and not args.junit:
-        print(rep.summary(result))
-        return 0
-    if args.html:
-        result.html_path = args.html
-    written = write_reports(result, args, "report", report_view_of(result))
-    for kind in ("junit", "html"):
-        if kind in written:
-            print(f"{kind}: {getattr(args, kind)}")
-    return 0 if len(written) == bool(args.html) + bool(args.junit) else 2
-
-
-def report_view_of(result):
-    """The report view of the procedure whose title the results carry (a saved run), or
-    None (neutral) when no procedure has it."""
-    from ptpcert.registry import by_title
-
-    proc = by_title(result.procedure) if result.procedure else None
-    return proc.report_view() if proc is not None else None

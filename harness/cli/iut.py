@@ -1,0 +1,68 @@
+"""``ptpcert iut``: the bundled reference implementation, the model as a real-time station.
+Its start-up is part of every case of an exec: IUT, so this module loads nothing it does not
+need."""
+
+from __future__ import annotations
+
+import signal
+import sys
+
+
+def add_commands(sub) -> None:
+    """The ``iut`` command."""
+    from ptpcert.registry import all_names, procedures
+    i = sub.add_parser("iut", help="run the bundled reference implementation (the model, in real time)",
+                       description="The reference model as a real-time station on stdin/stdout (or --port), "
+                                   "with its application. STATUS events go to stderr as 'STATUS 16#XXXX' lines.")
+    i.add_argument("--procedure", choices=all_names(), default=None,
+                   help=f"the procedure (default {procedures()[0].names[0]})")
+    i.add_argument("--cdt-ms", type=int, default=None, help="character delay time (default: the procedure's)")
+    i.add_argument("--baud", type=int, default=9600, help="baud rate; 0: do not pace the output")
+    i.add_argument("--data-bits", type=int, choices=[7, 8], default=8)
+    i.add_argument("--parity", choices=["none", "odd", "even"], default="even")
+    i.add_argument("--stop-bits", type=int, choices=[1, 2], default=1)
+    i.add_argument("--parmrk", action="store_true",
+                   help="the input marks line conditions as termios PARMRK does (FF 00 00 BREAK, FF 00 xx error, FF FF data FF)")
+    i.add_argument("--port", metavar="URL", help="use this serial port (pyserial URL or device) instead of stdin/stdout")
+    i.add_argument("--app", default=None,
+                   help="the application: "
+                        + "; ".join(f"{p.title}: {', '.join(p.apps())} (default {p.apps()[0]})" for p in procedures()))
+    i.add_argument("--mutant", metavar="NAME", help="run a deliberately broken variant (see --list-mutants)")
+    i.add_argument("--list-mutants", action="store_true", help="list the broken variants and exit")
+    i.add_argument("--send", action="append", default=[], metavar="HEX",
+                   help="data the application hands over at start-up (repeatable; what it is, the procedure's "
+                        "options say)")
+    i.add_argument("-v", "--verbose", action="store_true", help="also log deliveries and job results on stderr")
+    for proc in procedures():
+        proc.add_iut_arguments(i.add_argument_group(f"{proc.title} options"))
+    i.set_defaults(func=cmd_iut)
+
+
+def cmd_iut(args) -> int:
+    from ptpcert.iut import run_iut
+    from ptpcert.registry import by_name, procedures
+
+    proc = by_name(args.procedure) if args.procedure else procedures()[0]
+    args.procedure = args.procedure or proc.names[0]
+    if args.list_mutants:
+        for name, m in proc.mutants().items():
+            print(f"{name:<28} {m.rule}")
+        return 0
+    if args.mutant and args.mutant not in proc.mutants():
+        print(f"ptpcert iut: unknown mutant {args.mutant!r} for {proc.title}; --list-mutants shows them",
+              file=sys.stderr)
+        return 2
+    if args.app is None:
+        args.app = proc.apps()[0]
+    if args.app not in proc.apps():
+        print(f"ptpcert iut: --app {args.app!r}: allowed values are {', '.join(proc.apps())}", file=sys.stderr)
+        return 2
+    from ptpcert.procedure import ProcedureError
+    try:
+        params = proc.params_from_iut(args)
+        host = proc.iut_host(params, args)
+    except ProcedureError as exc:
+        print(f"ptpcert iut: {exc}", file=sys.stderr)
+        return 2
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
+    return run_iut(host, proc.line(params), parmrk=args.parmrk, port=args.port, verbose=args.verbose)
