@@ -29,12 +29,22 @@ sender, receive-side flow control); this module implements their actions and dec
 With ``explain=True`` it records why it sent each character (:attr:`tx_log`) and switched
 each signal (:attr:`signal_log`), naming the table row, the decisions and the manual's
 reference, for tools that explain a transcript.
+
+The module is one piece on purpose, although long: it is the station class, with one method
+for each action and decision of the three tables besides the interface above. The three
+machines share one state (the frame coming in, the receive buffer, the send job, the modem
+lines, the deadlines, the transmitter) and act on one another within a single input: a
+stored character fills the buffer and flow control sends XOFF, a received XOFF stops the
+sender. Cutting the class along the tables would spread that state over several files and
+make no part usable alone. What is not the state machine lives elsewhere: the transmitter
+in :mod:`ptpcert.model.output`, the send job and the explanation records in
+:mod:`.records`, the tables in :mod:`.table`, what goes on the line for a job in
+:mod:`.codec`.
 """
 
 from __future__ import annotations
 
 from collections import deque
-from dataclasses import dataclass, field
 from enum import StrEnum
 from math import inf
 from typing import Any, Mapping
@@ -50,6 +60,7 @@ from .codec import send_bytes
 from .events import FrameDiscarded, FrameStored
 from .params import BUFFER_BYTES, MAX_FRAME, AsciiParams
 from .readings import READINGS, AsciiReadings
+from .records import AsciiJob, SignalRecord, TxRecord, Why
 from .table import FcInput, FcState, RxInput, RxState, TxInput, TxState
 
 
@@ -73,53 +84,7 @@ _TX_TIMERS = {Timer.TX_DONE: TxInput.TX_DONE, Timer.T_PAUSE: TxInput.T_PAUSE,
 _FROM_TX = (Timer.TX_DONE, Timer.T_PAUSE, Timer.T_RTS_OFF)
 
 
-@dataclass
-class Why:
-    """Why the station did something: the table (``rx``, ``tx``, ``fc``), the state, the
-    input, the row's action, the decisions taken after it, and the manual's reference."""
-
-    machine: str
-    state: str
-    input: str
-    action: str
-    ref: str
-    decisions: list[str] = field(default_factory=list)
-
-    def __str__(self) -> str:
-        path = " -> ".join([self.action, *self.decisions])
-        return f"{self.machine} {self.state} + {self.input}: {path} ({self.ref})"
-
-
 _POWER_ON = Why("station", "START_UP", "POWER_ON", "start_up", "§7.2; §2.2.4")
-
-
-@dataclass(frozen=True, slots=True)
-class TxRecord:
-    """Characters that went on the line back to back, and why (``kind``: ``data`` for a
-    send job's frame, ``control`` for XON/XOFF)."""
-
-    start: float
-    end: float
-    data: bytes
-    kind: str
-    why: Why
-
-
-@dataclass(frozen=True, slots=True)
-class SignalRecord:
-    time: float
-    name: str
-    value: int
-    why: Why
-
-
-@dataclass
-class AsciiJob:
-    """A send job: the data handed over (LEN bytes) and what goes on the line for it."""
-
-    payload: bytes
-    wire: bytes
-    pos: int = 0   # characters of ``wire`` handed to the transmitter (and not taken back)
 
 
 class AsciiStation:
