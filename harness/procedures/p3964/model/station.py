@@ -28,8 +28,20 @@ the next state: the row's target does, or the decision it names.
 Tools that watch a station (the fuzzer, the runner, links) use its public properties
 (:attr:`transmitting`, :attr:`busy_until`, :attr:`popped_until`, :attr:`block_done_at`,
 :attr:`timer`, :attr:`has_events`) and :meth:`block_body`, never its private fields. A broken
-variant (``ptpcert.mutants``) is a subclass that overrides protected hooks: actions,
-decisions, :meth:`_body`, :meth:`_durations`, the attempt limits.
+variant (:mod:`ptpcert.procedures.p3964.mutants`) is a subclass that overrides protected
+hooks: actions, decisions, :meth:`_body`, :meth:`_durations`, the attempt limits.
+
+The module is one piece on purpose, although long: it is the station class, with one method
+for each action and decision of the table (about sixty) besides the interface above. The
+sender and the receiver share one state (the job, the reception, the one timer, the
+transmitter) and hand over to each other within an input (an initialization conflict turns
+a sender into a receiver). The fast path that stores a run of received data at once
+(:meth:`quiet_run`, :meth:`receive_run`) must do exactly what the receiver's actions do one
+character at a time, and checks, for each subclass, that the table rows and actions it
+stands for are still the plain ones. Cutting the class would spread one state machine over
+several files and make no part usable alone. What is not the state machine lives elsewhere:
+the transmitter in :mod:`ptpcert.model.output`, the table in :mod:`.table`, the block format
+in :mod:`.codec`.
 """
 
 from __future__ import annotations
