@@ -66,7 +66,8 @@ from ptpcert.procedures.ascii.model.codec import char_name, send_bytes, split_fr
 from ptpcert.procedures.ascii.model.events import FrameDiscarded
 from ptpcert.procedures.ascii.model.params import MAX_FRAME
 from ptpcert.procedures.ascii.model.readings import READINGS, AsciiReadings
-from ptpcert.procedures.ascii.model.station import Timer, Why
+from ptpcert.procedures.ascii.model.records import Why
+from ptpcert.procedures.ascii.model.station import Timer
 from ptpcert.procedures.ascii.model.table import FcState, RxState, TxState
 
 #: how many characters a sender may still send after the partner's XOFF: what its UART's

@@ -8,15 +8,15 @@ import importlib as _importlib
 # only the parameters or the codec (the 3964R reference IUT, whose command line knows every
 # procedure's options) does not pay for the station and its tables at start-up.
 _WHERE = {
-    "codec": None, "events": None, "table": None,
+    "codec": None, "events": None, "records": None, "table": None,
     "APPS": "app", "AsciiHost": "app",
     "Piece": "codec", "char_name": "codec", "describe": "codec", "send_bytes": "codec",
     "split_frames": "codec",
     "FrameDiscarded": "events", "FrameStored": "events",
     "AsciiParams": "params",
     "READINGS": "readings", "AsciiReadings": "readings",
-    "AsciiJob": "station", "AsciiStation": "station", "SignalRecord": "station", "Timer": "station",
-    "TxRecord": "station", "Why": "station",
+    "AsciiJob": "records", "SignalRecord": "records", "TxRecord": "records", "Why": "records",
+    "AsciiStation": "station", "Timer": "station",
 }
 
 
@@ -35,7 +35,7 @@ def __dir__() -> list[str]:
 
 
 __all__ = [
-    "codec", "events", "table", "APPS", "AsciiHost", "Piece", "char_name", "describe",
+    "codec", "events", "records", "table", "APPS", "AsciiHost", "Piece", "char_name", "describe",
     "send_bytes", "split_frames", "FrameDiscarded", "FrameStored", "AsciiParams", "READINGS",
     "AsciiReadings", "AsciiJob", "AsciiStation", "SignalRecord", "Timer", "TxRecord", "Why",
 ]

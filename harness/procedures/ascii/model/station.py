@@ -14,10 +14,11 @@ what it wants to do, through the same interface as the 3964(R) station:
   modem lines), :meth:`pop_events` (STATUS events, frames stored/read/discarded, job
   results).
 
-The station includes its UART transmitter: characters go out one character time apart, so
-the model knows what is already on the line when an XOFF or CTS OFF stops it, and an XON or
-XOFF it sends itself goes out at the next character boundary, between two characters of a
-frame if need be (full duplex, §2.1).
+The station includes its UART transmitter (:class:`~ptpcert.model.output.Transmitter`, the
+one every procedure's station uses): characters go out one character time apart, so the
+model knows what is already on the line when an XOFF or CTS OFF stops it, and an XON or XOFF
+it sends itself goes out at the next character boundary, between two characters of a frame
+if need be (full duplex, §2.1).
 
 Ordering rule: the inputs of an instant are handled before the deadlines of that instant (a
 character that completed exactly at a deadline started before it). Drivers deliver the
@@ -28,12 +29,22 @@ sender, receive-side flow control); this module implements their actions and dec
 With ``explain=True`` it records why it sent each character (:attr:`tx_log`) and switched
 each signal (:attr:`signal_log`), naming the table row, the decisions and the manual's
 reference, for tools that explain a transcript.
+
+The module is one piece on purpose, although long: it is the station class, with one method
+for each action and decision of the three tables besides the interface above. The three
+machines share one state (the frame coming in, the receive buffer, the send job, the modem
+lines, the deadlines, the transmitter) and act on one another within a single input: a
+stored character fills the buffer and flow control sends XOFF, a received XOFF stops the
+sender. Cutting the class along the tables would spread that state over several files and
+make no part usable alone. What is not the state machine lives elsewhere: the transmitter
+in :mod:`ptpcert.model.output`, the send job and the explanation records in
+:mod:`.records`, the tables in :mod:`.table`, what goes on the line for a job in
+:mod:`.codec`.
 """
 
 from __future__ import annotations
 
 from collections import deque
-from dataclasses import dataclass, field
 from enum import StrEnum
 from math import inf
 from typing import Any, Mapping
@@ -41,6 +52,7 @@ from typing import Any, Mapping
 from ptpcert.model.codes import Code
 from ptpcert.model.errors import ModelError, ParameterError
 from ptpcert.model.events import Delivered, SendDone, SendFailed, Status
+from ptpcert.model.output import EPS, Transmitter, characters
 
 from . import events as aev
 from . import table as T
@@ -48,9 +60,8 @@ from .codec import send_bytes
 from .events import FrameDiscarded, FrameStored
 from .params import BUFFER_BYTES, MAX_FRAME, AsciiParams
 from .readings import READINGS, AsciiReadings
+from .records import AsciiJob, SignalRecord, TxRecord, Why
 from .table import FcInput, FcState, RxInput, RxState, TxInput, TxState
-
-_EPS = 1e-9
 
 
 class Timer(StrEnum):
@@ -73,128 +84,7 @@ _TX_TIMERS = {Timer.TX_DONE: TxInput.TX_DONE, Timer.T_PAUSE: TxInput.T_PAUSE,
 _FROM_TX = (Timer.TX_DONE, Timer.T_PAUSE, Timer.T_RTS_OFF)
 
 
-@dataclass
-class Why:
-    """Why the station did something: the table (``rx``, ``tx``, ``fc``), the state, the
-    input, the row's action, the decisions taken after it, and the manual's reference."""
-
-    machine: str
-    state: str
-    input: str
-    action: str
-    ref: str
-    decisions: list[str] = field(default_factory=list)
-
-    def __str__(self) -> str:
-        path = " -> ".join([self.action, *self.decisions])
-        return f"{self.machine} {self.state} + {self.input}: {path} ({self.ref})"
-
-
 _POWER_ON = Why("station", "START_UP", "POWER_ON", "start_up", "§7.2; §2.2.4")
-
-
-@dataclass(frozen=True, slots=True)
-class TxRecord:
-    """Characters that went on the line back to back, and why (``kind``: ``data`` for a
-    send job's frame, ``control`` for XON/XOFF)."""
-
-    start: float
-    end: float
-    data: bytes
-    kind: str
-    why: Why
-
-
-@dataclass(frozen=True, slots=True)
-class SignalRecord:
-    time: float
-    name: str
-    value: int
-    why: Why
-
-
-@dataclass
-class AsciiJob:
-    """A send job: the data handed over (LEN bytes) and what goes on the line for it."""
-
-    payload: bytes
-    wire: bytes
-    pos: int = 0   # characters of ``wire`` handed to the transmitter (and not taken back)
-
-
-class _Line:
-    """The UART transmitter: runs [start, bytes, kind, why] of characters sent back to back."""
-
-    def __init__(self, char: float):
-        self.char = char
-        self.runs: deque[list] = deque()
-        self.free_at = -inf
-        self.popped_end = -inf
-        self.popped_end_of: dict[str, float] = {}
-
-    def schedule(self, now: float, data: bytes, kind: str, why: Why) -> tuple[float, float]:
-        start = max(now, self.free_at)
-        self.runs.append([start, bytes(data), kind, why])
-        self.free_at = start + len(data) * self.char
-        return start, self.free_at
-
-    def cut(self, limit: float) -> list[tuple[bytes, str, Why]]:
-        """Take back every character that has not started by ``limit``; returns them, in
-        order, as (bytes, kind, why)."""
-        removed = []
-        runs, char = self.runs, self.char
-        while runs:
-            start, data, kind, why = runs[-1]
-            if start > limit + _EPS:
-                runs.pop()
-                removed.append((data, kind, why))
-                continue
-            n = min(len(data), int((limit - start) / char + 1e-6) + 1)
-            if n < len(data):
-                runs[-1] = [start, data[:n], kind, why]
-                removed.append((data[n:], kind, why))
-            break
-        removed.reverse()
-        if runs:
-            self.free_at = runs[-1][0] + len(runs[-1][1]) * char
-        else:
-            self.free_at = self.popped_end
-        return removed
-
-    def last_end(self, kind: str) -> float:
-        """End of the last character of this kind handed to the line."""
-        for start, data, k, _ in reversed(self.runs):
-            if k == kind:
-                return start + len(data) * self.char
-        return self.popped_end_of.get(kind, -inf)
-
-    def pop(self, now: float | None) -> list[tuple[float, bytes, str, Why]]:
-        out = []
-        runs, char = self.runs, self.char
-        limit = inf if now is None else now + _EPS
-        while runs and runs[0][0] <= limit:
-            start, data, kind, why = runs[0]
-            n = len(data) if limit == inf else min(len(data), int((limit - start) / char + 1e-6) + 1)
-            if n >= len(data):
-                runs.popleft()
-                out.append((start, data, kind, why))
-            else:
-                out.append((start, data[:n], kind, why))
-                runs[0] = [start + n * char, data[n:], kind, why]
-                break
-        for start, data, kind, _ in out:
-            end = start + len(data) * char
-            self.popped_end = max(self.popped_end, end)
-            self.popped_end_of[kind] = end
-        return out
-
-    def delay(self, delta: float) -> None:
-        for run in self.runs:
-            run[0] += delta
-        self.free_at += delta
-        self.popped_end += delta
-        for k in self.popped_end_of:
-            self.popped_end_of[k] += delta
 
 
 class AsciiStation:
@@ -243,7 +133,7 @@ class AsciiStation:
         self.tx_state = TxState.IDLE
         self.fc_state = FcState.OPEN
         self._timers: dict[Timer, float] = {}
-        self._line = _Line(self._char)
+        self._line = Transmitter(self._char)   # runs of kind "data" (a job's frame) or "control" (XON/XOFF)
         self._events: list = []
         self._signals: list[tuple[float, str, int]] = []
         # modem lines (§2.2.4 "RS 232C secondary signals"): outputs OFF at power-on
@@ -406,7 +296,7 @@ class AsciiStation:
         """The application wants to act at ``t`` (a user program that reads later): the
         station adds ``t`` to its deadlines, so every driver wakes up for it, and does
         nothing when it is reached."""
-        if t > self.now + _EPS:
+        if t > self.now + EPS:
             cur = self._timers.get(Timer.WAKE, inf)
             self._timers[Timer.WAKE] = min(cur, t)
 
@@ -425,23 +315,19 @@ class AsciiStation:
     def pop_output(self, now: float | None = None) -> list[tuple[float, int]]:
         """Characters whose transmission has started by ``now`` (all scheduled ones when
         ``now`` is None), as (start time, byte) pairs, in order."""
-        out = []
-        char = self._char
-        for start, data in self.pop_output_runs(now):
-            out.extend((start + i * char, b) for i, b in enumerate(data))
-        return out
+        return characters(self.pop_output_runs(now), self._char)
 
     def pop_output_runs(self, now: float | None = None) -> list[tuple[float, bytes]]:
         """Like :meth:`pop_output`, as runs (start of the first character, bytes) sent back
         to back."""
         out = []
         log = self.tx_log
-        for start, data, kind, why in self._line.pop(now):
+        for start, data, kind, why in self._line.pop(now, labelled=True):
             out.append((start, data))
             if log is not None:
                 end = start + len(data) * self._char
                 last = log[-1] if log else None
-                if last is not None and last.why is why and abs(last.end - start) < _EPS:
+                if last is not None and last.why is why and abs(last.end - start) < EPS:
                     log[-1] = TxRecord(last.start, end, last.data + data, kind, why)
                 else:
                     log.append(TxRecord(start, end, data, kind, why))
@@ -453,8 +339,8 @@ class AsciiStation:
         if now is None:
             out, self._signals = self._signals, []
             return out
-        out = [s for s in self._signals if s[0] <= now + _EPS]
-        self._signals = [s for s in self._signals if s[0] > now + _EPS]
+        out = [s for s in self._signals if s[0] <= now + EPS]
+        self._signals = [s for s in self._signals if s[0] > now + EPS]
         return out
 
     def pop_events(self) -> list:
@@ -464,7 +350,7 @@ class AsciiStation:
     def explain(self, t: float) -> TxRecord | None:
         """The record of the character that started at ``t`` (``explain=True``)."""
         for rec in reversed(self.tx_log or ()):
-            if rec.start - _EPS <= t < rec.end - _EPS:
+            if rec.start - EPS <= t < rec.end - EPS:
                 return rec
         return None
 
@@ -475,11 +361,11 @@ class AsciiStation:
         if delta <= 0:
             return
         before = self._line.popped_end
-        self._line.delay(delta)
+        self._line.shift(delta)
         for t in _FROM_TX:
             if t in self._timers:
                 self._timers[t] += delta
-        if self._last_frame_end != -inf and self._last_frame_end >= before - self._char - _EPS:
+        if self._last_frame_end != -inf and self._last_frame_end >= before - self._char - EPS:
             self._last_frame_end += delta
 
     # -- state for drivers, hosts and tests --------------------------------------------
@@ -529,13 +415,13 @@ class AsciiStation:
 
     # ================================================================== time
     def _at(self, now: float, strict: bool) -> None:
-        if now < self.now - _EPS:
+        if now < self.now - EPS:
             raise ModelError(f"{self.name}: time went backwards ({now} < {self.now})")
         timers = self._timers
         while timers:
             name = min(timers, key=lambda k: (timers[k], _ORDER[k]))
             t = timers[name]
-            due = t < now - _EPS if strict else t <= now + _EPS
+            due = t < now - EPS if strict else t <= now + EPS
             if not due:
                 break
             del timers[name]
@@ -641,7 +527,7 @@ class AsciiStation:
         self._prev = None
         self._spoil = None
         self._spoil_reason = ""
-        self._trailing = self.now - self._last_complete_at <= self._cdt_window + _EPS
+        self._trailing = self.now - self._last_complete_at <= self._cdt_window + EPS
 
     def _restart_cdt(self) -> None:
         if self._cdt_suspended():
@@ -949,7 +835,7 @@ class AsciiStation:
         p, r = self.params, self.readings
         if p.pauses_between_frames:
             ready = self._last_frame_end + p.cdt + r.q5_send_pause_extra_chars * self._char
-            if self.now < ready - _EPS:
+            if self.now < ready - EPS:
                 self._start(Timer.T_PAUSE, ready)
                 return TxState.PAUSE
         if self._v24:

@@ -11,9 +11,10 @@ drains what it wants to do:
 * outputs: :meth:`pop_output` (bytes with the time each starts on the line),
   :meth:`next_deadline`, :meth:`pop_events` (STATUS events, deliveries, job results).
 
-The station includes its UART transmitter: bytes are scheduled one character time apart
-(the character time follows from baud rate and character frame), so the model knows which
-bytes are already on the line when the partner interrupts it. With ``baud_rate=None`` the
+The station includes its UART transmitter (:class:`~ptpcert.model.output.Transmitter`, the
+one every procedure's station uses): bytes are scheduled one character time apart (the
+character time follows from baud rate and character frame), so the model knows which bytes
+are already on the line when the partner interrupts it. With ``baud_rate=None`` the
 character time is zero.
 
 Ordering rule: when an input and a deadline fall on the same instant, the input is handled
@@ -27,8 +28,20 @@ the next state: the row's target does, or the decision it names.
 Tools that watch a station (the fuzzer, the runner, links) use its public properties
 (:attr:`transmitting`, :attr:`busy_until`, :attr:`popped_until`, :attr:`block_done_at`,
 :attr:`timer`, :attr:`has_events`) and :meth:`block_body`, never its private fields. A broken
-variant (``ptpcert.mutants``) is a subclass that overrides protected hooks: actions,
-decisions, :meth:`_body`, :meth:`_durations`, the attempt limits.
+variant (:mod:`ptpcert.procedures.p3964.mutants`) is a subclass that overrides protected
+hooks: actions, decisions, :meth:`_body`, :meth:`_durations`, the attempt limits.
+
+The module is one piece on purpose, although long: it is the station class, with one method
+for each action and decision of the table (about sixty) besides the interface above. The
+sender and the receiver share one state (the job, the reception, the one timer, the
+transmitter) and hand over to each other within an input (an initialization conflict turns
+a sender into a receiver). The fast path that stores a run of received data at once
+(:meth:`quiet_run`, :meth:`receive_run`) must do exactly what the receiver's actions do one
+character at a time, and checks, for each subclass, that the table rows and actions it
+stands for are still the plain ones. Cutting the class would spread one state machine over
+several files and make no part usable alone. What is not the state machine lives elsewhere:
+the transmitter in :mod:`ptpcert.model.output`, the table in :mod:`.table`, the block format
+in :mod:`.codec`.
 """
 
 from __future__ import annotations
@@ -40,6 +53,7 @@ from math import inf
 from ptpcert.model.codes import Code
 from ptpcert.model.errors import ModelError
 from ptpcert.model.events import Delivered, Event, SendDone, SendFailed, Status
+from ptpcert.model.output import EPS, Transmitter, characters
 
 from . import table as T
 from .codec import DLE, ETX, MAX_BLOCK, NAK, STX, stuff
@@ -53,7 +67,6 @@ _CLASS = [T.OTHER] * 256
 _CLASS[STX], _CLASS[DLE], _CLASS[ETX], _CLASS[NAK] = T.STX, T.DLE, T.ETX, T.NAK
 _END = bytes((DLE, ETX))
 _PAIR, _ONE_DLE = bytes((DLE, DLE)), bytes((DLE,))
-_EPS = 1e-9
 
 
 def _xor(data: bytes) -> int:
@@ -155,12 +168,8 @@ class Station3964:
         self._timer_at = inf
         self._timer_started = False
         self._timer_from_tx = False
-        # transmitter
-        # scheduled transmissions as runs: [start of the first byte, bytes]; the bytes of a
-        # run go out back to back, one character time apart
-        self._tx: deque[list] = deque()
-        self._tx_free_at = -inf
-        self._popped_end = -inf
+        # transmitter: what is scheduled to go out, and when (ptpcert.model.output)
+        self._tx = Transmitter(p.char_time)
         self._tx_done_at = inf
         self._end_seq_at = inf
         # user side
@@ -224,7 +233,7 @@ class Station3964:
                     i = j
                     continue
             b = data[i]
-            if i and self._tx_done_at <= now + _EPS:
+            if i and self._tx_done_at <= now + EPS:
                 # a zero-time transmission started by the previous character has ended
                 # before this one, as it has between two receive() calls of one instant
                 self._at(now, strict=True)
@@ -240,9 +249,9 @@ class Station3964:
         together than CDT. A query: nothing changes. Links use it, with
         :meth:`receive_run`, to hand over a block at 9600 baud in one call instead of one
         event per character."""
-        if (self.state is not T.RECEIVE or not self._plain_receive or self.trace is not None or self._tx
-                or self._events or now < self.now - _EPS or self._tx_done_at != inf
-                or self._timer_at <= now + _EPS):
+        if (self.state is not T.RECEIVE or not self._plain_receive or self.trace is not None or self._tx.runs
+                or self._events or now < self.now - EPS or self._tx_done_at != inf
+                or self._timer_at <= now + EPS):
             return 0
         if self._plain_pairs:
             n = _plain_end(data, 0)     # a DLE DLE pair is stored as one DLE
@@ -250,7 +259,7 @@ class Station3964:
             n = data.find(DLE)
             n = len(data) if n < 0 else n
         # the character timer restarts with each character; the next one must come first
-        return n if spacing < self._cdt + self._grace - _EPS else min(n, 1)
+        return n if spacing < self._cdt + self._grace - EPS else min(n, 1)
 
     def receive_run(self, now: float, data: bytes, spacing: float) -> None:
         """Characters received intact, the first complete at ``now`` and each next one
@@ -270,10 +279,11 @@ class Station3964:
         not yet handed out, if no input interrupts them: (start of the first, the bytes,
         the time of its next own deadline other than pacing them: a timer or the end of
         its block). None when nothing is scheduled. A query, for links."""
-        if not self._tx:
+        runs = self._tx.runs
+        if not runs:
             return None
-        start, data = self._tx[0]
-        return start, data, min(self._timer_at, self._tx_done_at)
+        run = runs[0]
+        return run[0], run[1], min(self._timer_at, self._tx_done_at)
 
     def receive_invalid(self, now: float, value: int = 0) -> None:
         """A character with a parity, framing or overrun error (an "invalid character")."""
@@ -327,7 +337,7 @@ class Station3964:
         t, done = self._timer_at, self._tx_done_at
         if done < t:
             t = done
-        tx = self._tx
+        tx = self._tx.runs
         if tx and tx[0][0] < t:
             t = tx[0][0]
         return None if t == inf else t
@@ -339,35 +349,13 @@ class Station3964:
     def pop_output(self, now: float | None = None) -> list[tuple[float, int]]:
         """Bytes whose transmission has started by ``now`` (all scheduled bytes when
         ``now`` is None), as (start time, byte) pairs, in order."""
-        out = []
-        char = self._char
-        for start, data in self.pop_output_runs(now):
-            out.extend((start + i * char, b) for i, b in enumerate(data))
-        return out
+        return characters(self.pop_output_runs(now), self._char)
 
     def pop_output_runs(self, now: float | None = None) -> list[tuple[float, bytes]]:
         """Like :meth:`pop_output`, as runs (start of the first byte, bytes) of characters
         sent back to back."""
         tx = self._tx
-        if not tx:
-            return []
-        out = []
-        limit = inf if now is None else now + _EPS
-        char = self._char
-        while tx and tx[0][0] <= limit:
-            start, data = tx[0]
-            n = len(data) if char == 0 or limit == inf else min(len(data), int((limit - start) / char + 1e-6) + 1)
-            if n >= len(data):
-                tx.popleft()
-                out.append((start, data))
-            else:
-                out.append((start, data[:n]))
-                tx[0] = [start + n * char, data[n:]]
-                break
-        if out:
-            start, data = out[-1]
-            self._popped_end = start + len(data) * char
-        return out
+        return tx.pop(now) if tx.runs else []
 
     def pop_events(self) -> list[Event]:
         out, self._events = self._events, []
@@ -376,13 +364,8 @@ class Station3964:
     @property
     def idle(self) -> bool:
         """Idle with nothing to do: no job, nothing scheduled to transmit."""
-        return (self.state is T.IDLE and not self._tx and self.job is None
+        return (self.state is T.IDLE and not self._tx.runs and self.job is None
                 and self.deferred is None and not self._jobs)
-
-    @property
-    def transmitting(self) -> bool:
-        """Bytes are still scheduled to go out on the line."""
-        return bool(self._tx)
 
     @property
     def pending_jobs(self) -> int:
@@ -391,18 +374,18 @@ class Station3964:
     @property
     def transmitting(self) -> bool:
         """Bytes are scheduled that :meth:`pop_output` has not handed out yet."""
-        return bool(self._tx)
+        return bool(self._tx.runs)
 
     @property
     def busy_until(self) -> float:
         """When the transmitter will have sent everything scheduled so far (-inf before the
         first transmission)."""
-        return self._tx_free_at
+        return self._tx.free_at
 
     @property
     def popped_until(self) -> float:
         """When the last byte handed out by :meth:`pop_output` has left the line."""
-        return self._popped_end
+        return self._tx.popped_end
 
     @property
     def block_done_at(self) -> float | None:
@@ -430,7 +413,7 @@ class Station3964:
     def _at(self, now: float, strict: bool) -> None:
         """Move the clock to ``now`` and handle the deadlines before it (``strict``) or up
         to and including it."""
-        if now < self.now - _EPS:
+        if now < self.now - EPS:
             raise ModelError(f"{self.name}: time went backwards ({now} < {self.now})")
         while True:
             done_at, timer_at = self._tx_done_at, self._timer_at
@@ -441,9 +424,9 @@ class Station3964:
             if strict:
                 # Inputs at `now` go before deadlines at `now` (see the module docstring);
                 # only a zero-time transmission has ended by the instant it started.
-                due = t < now - _EPS or (is_done and self._char == 0 and t <= now + _EPS)
+                due = t < now - EPS or (is_done and self._char == 0 and t <= now + EPS)
             else:
-                due = t <= now + _EPS
+                due = t <= now + EPS
             if not due:
                 break
             self.now = max(self.now, now if self.late_timers_act_now else t)
@@ -485,8 +468,9 @@ class Station3964:
         if delta <= 0:
             return 0.0
         now = self.now
-        if self._tx:
-            delta = min(delta, self._tx[0][0] - now)
+        runs = self._tx.runs
+        if runs:
+            delta = min(delta, runs[0][0] - now)
         if self._tx_done_at != inf:
             delta = min(delta, self._tx_done_at - now)
         if self._timer is not None and self._timer_from_tx:
@@ -499,10 +483,7 @@ class Station3964:
     def _shift_output(self, delta: float) -> None:
         """Move what is still scheduled to transmit, the end of the transmission and a timer
         measured from it by ``delta`` seconds (later when positive)."""
-        for run in self._tx:
-            run[0] += delta
-        self._tx_free_at += delta
-        self._popped_end += delta
+        self._tx.shift(delta)
         if self._tx_done_at != inf:
             self._tx_done_at += delta
             self._end_seq_at += delta
@@ -513,31 +494,21 @@ class Station3964:
     # ================================================================== transmitter
     def _send(self, data: bytes) -> float:
         """Schedule ``data`` on the line; return when its last byte has been sent."""
-        start = max(self.now, self._tx_free_at)  # A8: no guard time before any character
-        self._tx.append([start, bytes(data)])
-        self._tx_free_at = start + len(data) * self._char
+        start, end = self._tx.schedule(self.now, data)  # A8: no guard time before any character
         if self.tx_log is not None:
-            self.tx_log.append([start, self._tx_free_at, self._why[0], list(self._why[1])])
-        return self._tx_free_at
+            self.tx_log.append([start, end, self._why[0], list(self._why[1])])
+        return end
 
     def _cancel_tx(self) -> None:
         """Stop transmitting at once: bytes not yet started are dropped."""
         tx = self._tx
-        now, char = self.now + _EPS, self._char
-        while tx and tx[-1][0] > now:
-            tx.pop()
-        if tx:
-            start, data = tx[-1]
-            n = len(data) if char == 0 else min(len(data), int((now - start) / char + 1e-6) + 1)
-            tx[-1] = [start, data[:n]]
-            self._tx_free_at = start + n * char
-        else:
-            self._tx_free_at = self._popped_end
+        tx.cut(self.now, EPS)     # a byte that starts now has started
         if self.tx_log:
+            free = tx.free_at
             for entry in reversed(self.tx_log):
-                if entry[1] <= self._tx_free_at:
+                if entry[1] <= free:
                     break
-                entry[1] = max(entry[0], self._tx_free_at)
+                entry[1] = max(entry[0], free)
         self._tx_done_at = inf
         self._end_seq_at = inf
 
@@ -715,7 +686,7 @@ class Station3964:
 
     def _a_dle_during_send(self, _v: int) -> None:
         self._in_end_sequence = (self.readings.a10_dle_in_end_sequence_too_early
-                                 and self.now >= self._end_seq_at - _EPS)
+                                 and self.now >= self._end_seq_at - EPS)
         self._cancel_tx()
 
     def _d_in_end_sequence(self) -> str:
@@ -923,7 +894,7 @@ class Station3964:
         if self.w_r >= limit or (timeout and not self.readings.a2_cdt_timeout_awaits_repetition):
             self._emit(Status(self.now, self._rx_first_error, "receive", final=True))
             return T.IDLE
-        self._start_timer(T.T_BLOCK, T_BLOCK, self._tx_free_at)
+        self._start_timer(T.T_BLOCK, T_BLOCK, self._tx.free_at)
         return T.WAIT_REPETITION
 
     def _a_repetition_begins(self, _v: int) -> None:
