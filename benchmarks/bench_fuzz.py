@@ -18,6 +18,8 @@ from pathlib import Path
 
 from hypothesis import settings
 
+from ptpcert.fuzz.settings import register_profiles
+
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests"))
 
@@ -33,6 +35,7 @@ def level1(examples: int) -> None:
         return orig(self)
 
     m.TwoStations.protocol_holds = counting
+    register_profiles()
     s = settings(settings.get_profile("ptpcert-quick"), max_examples=examples, derandomize=False)
     t = time.perf_counter()
     try:

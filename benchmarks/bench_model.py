@@ -62,6 +62,8 @@ def level1(examples: int, seed: int) -> tuple[float, float, float] | None:
     import test_fuzz_model as m
     from hypothesis import Phase, Verbosity, settings
 
+    from ptpcert.fuzz.settings import register_profiles
+    register_profiles()
     s = settings(settings.get_profile("ptpcert-quick"), max_examples=examples, database=None,
                  phases=(Phase.explicit, Phase.generate) + ((Phase.shrink,) if SHOW_FAILURE else ()),
                  verbosity=Verbosity.normal if SHOW_FAILURE else Verbosity.quiet)

@@ -1,8 +1,8 @@
 """The 3964 / 3964R transition table (the manual's Figs. 2-9 to 2-12), as data.
 
-This file does only one thing: it says, for every state and every input, which action the
-station performs and where it goes, and for every decision (a diamond of the flowcharts)
-where each of its outcomes leads. States, inputs and decisions are named as the manual's
+This file does only one thing, and is one piece on purpose although long: it says, for
+every state and every input, which action the station performs and where it goes, and for
+every decision (a diamond of the flowcharts) where each of its outcomes leads. States, inputs and decisions are named as the manual's
 flowcharts name them. Each row and each outcome carries, as data:
 
 * ``ref``: where the manual states the rule (section, figure, table);
@@ -15,12 +15,12 @@ flowcharts name them. Each row and each outcome carries, as data:
 * ``rules``: the ids of the manual's rules the row or outcome implements, from the rules
   catalogue (``ptpcert rules``; a test checks that every id exists there).
 
-Actions and decisions are implemented in :mod:`ptpcert.model.station` (``_a_<action>``,
+Actions and decisions are implemented in :mod:`.station` (``_a_<action>``,
 ``_d_<decision>``); nothing else decides where the station goes.
 
 A row whose action is :data:`IMPOSSIBLE` cannot occur: the input is a timer that is not
 running in that state, or a local event that the state cannot see. The station raises
-:class:`~ptpcert.model.station.ModelError` if it is ever fed one.
+:class:`~ptpcert.model.errors.ModelError` if it is ever fed one.
 
 References name the manual: section 2.2.2 and its paragraph ("Send/setup", "Sending data",
 "Send/release", "Receive/setup", "Receive/receiving data", "Receive/release",

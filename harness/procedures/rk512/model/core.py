@@ -11,6 +11,10 @@ AMB-31), and waits for the lower layer's verdict on it before the next.
 Sans-IO, explicit time: every public method takes ``now``; :meth:`next_deadline` and
 :meth:`handle_timer` run the core's own timers (T_RES of each side and the application's
 wake-ups).
+
+The module is one piece on purpose, although long: it is the core class, with one method per
+input of the two transition tables (:mod:`.table`, the active and the passive side) and the
+actions they share, all on the state of the open requests; its small job records come first.
 """
 
 from __future__ import annotations
