@@ -34,10 +34,14 @@ def JOBS(text: str) -> int:
 
 def add_commands(sub) -> None:
     """The ``run`` command."""
+    from ptpcert.registry import procedures
+
     r = sub.add_parser("run", help="run the suite against an implementation under test",
                        description="Run the conformance cases against an IUT and write the reports. "
                                    "Exit status: 0 nothing failed, 1 a case failed or xpassed, "
-                                   "2 bad usage or a harness error.")
+                                   "2 bad usage or a harness error.",
+                       epilog="procedures ([iut] procedure = ...): " + "; ".join(
+                           f"{p.title}: {', '.join(p.names)}" for p in procedures()))
     r.add_argument("--iut", required=True, metavar="URL", action="append",
                    help="exec:COMMAND | pty:COMMAND (with {port}) | sim:[?opts] | a pyserial URL or device; "
                         "given several times: a pool of identical IUTs, the cases spread over them")
