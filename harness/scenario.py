@@ -47,7 +47,10 @@ _PARSE_LOCK = threading.Lock()
 
 
 @functools.lru_cache(maxsize=4096)
-def _parse_expr(text: str) -> ast.AST:
+def parse_expr(text: str) -> ast.AST:
+    """The syntax tree of the time expression ``text``, its units rewritten as calls and its
+    dimensions checked (:class:`ExprError` when it is not a valid duration or factor). Each
+    text is parsed once (cached) and under ``_PARSE_LOCK``."""
     src = _UNIT.sub(lambda m: f"_{m.group(2)}({m.group(1)})", text)
     try:
         with _PARSE_LOCK:
@@ -69,7 +72,7 @@ class Expr:
         self._tree()  # validate now
 
     def _tree(self) -> ast.AST:
-        return _parse_expr(self.text)
+        return parse_expr(self.text)
 
     def eval(self, env: dict[str, float]) -> float:
         return _eval(self._tree(), env)
@@ -106,6 +109,12 @@ def _dimension(node: ast.AST, text: str) -> bool:
                 raise ExprError(f"{text!r}: divides by a duration")
             return left
     raise ExprError(f"{text!r}: only + - * /, numbers, units ms/s and timer names are allowed")
+
+
+def is_duration(expr: Expr) -> bool:
+    """True when ``expr`` is a duration (``"CDT + 5ms"``), False when it is a bare factor
+    (``"0.8"``)."""
+    return _dimension(expr._tree(), expr.text)
 
 
 def _eval(node: ast.AST, env: dict[str, float]) -> float:
@@ -146,7 +155,9 @@ STEP_KINDS = ("send", "send_error", "break", "wait", "expect", "silence", "partn
 DATA_KINDS = ("send", "send_error", "expect")
 SINCE = ("previous", "sent", "mark")
 GRADES = ("pass", "non-strict", "informational")
-_STEP_KEYS = {
+#: the keys a step of each of STEP_KINDS may have besides its kind (a procedure's own step
+#: kinds name theirs, :attr:`ptpcert.procedure.MacroStep.keys`)
+STEP_KEYS = {
     "send": {"at", "gap", "note", "mark"},
     "send_error": {"at", "note", "mark"},
     "break": {"at", "note", "mark"},
@@ -660,7 +671,7 @@ def _expr(value: Any, fld: str, err, duration: bool = True) -> Expr:
         e = Expr(value)
     except ExprError as exc:
         raise err(fld, str(exc)) from None
-    if duration and value.strip() != "0" and not _dimension(e._tree(), value):
+    if duration and value.strip() != "0" and not is_duration(e):
         raise err(fld, f"{value!r} is a bare number; give a unit (ms, s) or a timer name")
     return e
 
@@ -675,7 +686,7 @@ def _step(raw: Any, fld: str, err, proc=None) -> Step:
         raise err(fld, f"must have exactly one of {', '.join(known)} (has {', '.join(kinds) or 'none'})")
     kind = kinds[0]
     macro = macros.get(kind)
-    allowed = macro.keys if macro is not None else _STEP_KEYS[kind]
+    allowed = macro.keys if macro is not None else STEP_KEYS[kind]
     extra = sorted(set(raw) - {kind} - allowed)
     if extra:
         raise err(f"{fld}.{extra[0]}", f"not allowed in a {kind} step (allowed: {', '.join(sorted(allowed))})")

@@ -176,7 +176,7 @@ def test_time_expressions_are_parsed_once_and_never_by_two_threads_at_once(monke
 
     from ptpcert import scenario
 
-    scenario._parse_expr.cache_clear()
+    scenario.parse_expr.cache_clear()
     inside, most, calls = 0, 0, []
     guard = threading.Lock()
     real = ast.parse
