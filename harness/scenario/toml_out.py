@@ -3,9 +3,10 @@
 :func:`dump_vector` formats the table of :meth:`ptpcert.scenario.vector.Vector.to_toml` as
 a vector file: the top-level keys, the steps one inline table a line, then the tables of
 parameters, expected outcome and procedure-specific data, after an optional comment
-header. The order and spelling of what it writes are stable (files written by a fuzz
-campaign or a generator are compared and committed), so :mod:`tomllib` reads them back
-into the same vector. Only the small subset of TOML that vectors use is written.
+header. What it writes is stable to the byte: a fuzz finding is named by the hash of its
+file and written for ``ptpcert run --vectors``, and the golden vectors a generator writes
+are compared with the files committed; :func:`ptpcert.scenario.load.load_vector_text` reads
+them back into the same vector. Only the small subset of TOML that vectors use is written.
 """
 
 from __future__ import annotations
