@@ -174,9 +174,9 @@ def test_time_expressions_are_parsed_once_and_never_by_two_threads_at_once(monke
     import threading
     import time
 
-    from ptpcert import scenario
+    from ptpcert.scenario import expr
 
-    scenario._parse_expr.cache_clear()
+    expr.parse_expr.cache_clear()
     inside, most, calls = 0, 0, []
     guard = threading.Lock()
     real = ast.parse
@@ -194,7 +194,7 @@ def test_time_expressions_are_parsed_once_and_never_by_two_threads_at_once(monke
             with guard:
                 inside -= 1
 
-    monkeypatch.setattr(scenario.ast, "parse", parse)
+    monkeypatch.setattr(expr.ast, "parse", parse)
     texts = [f"{k}*CDT + {i}*CHAR" for k in range(4) for i in range(10)]
 
     def work(k):
