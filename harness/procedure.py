@@ -80,6 +80,12 @@ class Procedure:
     groups: tuple[str, ...] = ()
     #: names a time expression may use besides CHAR and STARTUP
     time_names: tuple[str, ...] = ()
+    #: its characters by name (e.g. a control character), for the message that refuses a
+    #: name where a vector wants bytes in hex
+    byte_names: Mapping[str, int] = {}
+    #: the longest gap between two characters of one transmission, as a time expression: an
+    #: expect step waits this long for each further byte unless it says otherwise (``max_gap``)
+    max_gap: str = "2*CHAR"
     #: the open points of the manual this procedure's model has readings for (e.g. A11)
     readings: tuple[str, ...] = ()
     #: how a case grades an IUT that takes the other reading of one of its tagged open

@@ -17,7 +17,7 @@ from ptpcert.procedures.p3964.fuzz import CoSim, Generator
 from ptpcert.procedures.p3964.model import codec
 from ptpcert.procedures.p3964.description import reference_profile
 from ptpcert.runner import Runner, RunOptions, realtime_tolerance
-from ptpcert.scenario import expand, timer_env
+from ptpcert.scenario import Expr, expand, timer_env
 from ptpcert.transport import make_factory
 
 
@@ -53,8 +53,9 @@ def test_exported_vectors_have_no_negative_offsets(drawn):
         env = timer_env(v)
         for i, s in enumerate(v.steps):
             for key in ("at", "gap", "duration", "after", "within", "max_gap"):
-                value = getattr(s, key).eval(env)
-                assert value >= 0.0, (i, key, getattr(s, key).text, v.steps)
+                e = getattr(s, key) or Expr(v.proc.max_gap)   # no max_gap: the procedure's
+                value = e.eval(env)
+                assert value >= 0.0, (i, key, e.text, v.steps)
             seen_mark += s.since == "mark"
             if s.since == "mark":   # measured from a marked step before it
                 assert any(p.mark for p in v.steps[:i]), v.steps

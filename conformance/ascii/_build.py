@@ -39,10 +39,10 @@ def brk(duration: str = "20*CHAR", at: str = "0", note: str = "BREAK") -> Step:
     return Step("break", duration=Expr(duration), at=Expr(at), note=note)
 
 
-def expect(data, within: str, after: str = "0", *, max_gap: str = "CDT", partial: bool = False,
+def expect(data, within: str, after: str = "0", *, max_gap: str | None = None, partial: bool = False,
            optional: bool = False, absent_grade: str = "pass", alternatives=(), alt_grade: str = "pass",
            since: str = "previous", resume: bool = False, note: str = "") -> Step:
-    return Step("expect", h(data), after=Expr(after), within=Expr(within), max_gap=Expr(max_gap),
+    return Step("expect", h(data), after=Expr(after), within=Expr(within), max_gap=Expr(max_gap) if max_gap else None,
                 partial=partial, optional=optional, absent_grade=absent_grade,
                 alternatives=tuple(h(a) for a in alternatives), alt_grade=alt_grade, since=since,
                 resume=resume, note=note)

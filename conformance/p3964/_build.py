@@ -55,10 +55,10 @@ def bcc_of(data) -> int:
     return codec.bcc(h(data))
 
 
-def expect(data, within: str = "ADT", after: str = "0", *, max_gap: str = "CDT", partial: bool = False,
+def expect(data, within: str = "ADT", after: str = "0", *, max_gap: str | None = None, partial: bool = False,
            optional: bool = False, absent_grade: str = "pass", alternatives=(), alt_grade: str = "pass",
            since: str = "previous", note: str = "") -> Step:
-    return Step("expect", h(data), after=Expr(after), within=Expr(within), max_gap=Expr(max_gap),
+    return Step("expect", h(data), after=Expr(after), within=Expr(within), max_gap=Expr(max_gap) if max_gap else None,
                 partial=partial, optional=optional, absent_grade=absent_grade,
                 alternatives=tuple(h(a) for a in alternatives), alt_grade=alt_grade, since=since, note=note)
 
@@ -126,7 +126,7 @@ def receive_block(payload, p: Params3964, *, gap: str = "0", first_at: str = "0"
 
 
 def echo_send(payload, p: Params3964, *, setup_reply_at: str = "0", release_reply_at: str = "0",
-              max_gap: str = "CDT") -> list[Step]:
+              max_gap: str | None = None) -> list[Step]:
     """The IUT sends ``payload`` (its echo) and the tester acknowledges it like a partner."""
     return [
         expect(STX, within=RETRY, note="the IUT's STX (no guard time is set: A8)"),

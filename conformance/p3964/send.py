@@ -8,7 +8,7 @@ ECHO = ["echo"]
 SEND_REF = "§2.2.2 Sending data; Fig. 2-5; Fig. 2-10 'send block, possibly with doubled DLE', 'send DLE, ETX', 'send BCC'"
 
 
-def _echo_case(p, id, title, payload, rule, rules, ref=SEND_REF, max_gap="CDT", provenance="[S][F]"):
+def _echo_case(p, id, title, payload, rule, rules, ref=SEND_REF, max_gap=None, provenance="[S][F]"):
     payload = h(payload)
     return case(p, id, title, ref, rule, "send", "sender", [prime(payload)] + echo_send(payload, p, max_gap=max_gap),
                 delivered=[payload], sent=[payload], requires=ECHO, provenance=provenance, rules=rules)

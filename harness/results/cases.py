@@ -35,10 +35,10 @@ FRAME_FIELDS = {
     "dir": 'who sent the frame: "tester" or "iut"',
     "t0": "where the frame begins (its first character, or the answer that opened it)",
     "t1": "where it ends (its last character)",
-    "label": 'the frame decoded, for people: "SEND DB10 DW0 200 bytes, accepted (DLE)"',
+    "label": "the frame decoded, for people, in the procedure's words",
     "frame": "optional: the frame's content in hex (without the link's framing)",
     "marks": 'optional: named instants inside it, a list of {"t": seconds, "name": str} '
-             '(e.g. an end character "ETX")',
+             '(e.g. where an end character came)',
     "windows": 'optional: named spans that belong to it, a list of {"t0", "t1", "name"} '
                '(e.g. the "CDT" after its last character)',
     "diverged": "optional: true when the case's first divergence falls in this frame",

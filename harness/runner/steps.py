@@ -253,7 +253,8 @@ class CaseRun(PartnerPlay):
         got = bytearray([b])
         self.consume()
         last_t = t
-        gap_nom = self.ev(step.max_gap)
+        gap_expr = step.max_gap if step.max_gap is not None else Expr(self.proc.max_gap)
+        gap_nom = self.ev(gap_expr)
         gap_lim = gap_nom + self.tol.late(gap_nom)
         while True:
             done = [c for c in live if len(c) == len(got)]
@@ -264,7 +265,7 @@ class CaseRun(PartnerPlay):
             if nxt is None or nxt[0] > last_t + gap_lim:
                 if done or step.partial:
                     break
-                self.fail(f"{what} with gaps of at most {step.max_gap}",
+                self.fail(f"{what} with gaps of at most {gap_expr}",
                           f"got {brief_hex(bytes(got))}, then nothing for {1000 * gap_lim:.0f} ms",
                           last_t + gap_lim, late_only=nxt is not None)
             nt, nb = nxt

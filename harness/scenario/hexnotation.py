@@ -11,6 +11,7 @@ adds only the runs and the bounds, for loading, writing and reporting vectors.
 from __future__ import annotations
 
 import re
+from typing import Mapping
 
 from ..model.hexbytes import parse_hex
 
@@ -22,9 +23,10 @@ MAX_REPEAT = 2 * 1024 + 8
 MAX_STEP_BYTES = 64 * 1024
 
 
-def parse_vector_hex(text: str) -> bytes:
+def parse_vector_hex(text: str, names: Mapping[str, int] | None = None) -> bytes:
     """Hex bytes as in the figures (``"02 10"``), where a token ``XX*N`` stands for the
-    byte XX repeated N times (``"41*1024"``)."""
+    byte XX repeated N times (``"41*1024"``). A name is refused; where ``names`` (a
+    procedure's names of its characters) knows it, the message gives its byte."""
     out = bytearray()
     for token in text.split():
         m = _REPEAT.match(token)
@@ -34,8 +36,9 @@ def parse_vector_hex(text: str) -> bytes:
                 raise ValueError(f"{token!r}: at most {MAX_REPEAT} repetitions (the longest block on the line)")
             out += bytes([int(m.group(1), 16)]) * n
         elif re.fullmatch(r"[A-Za-z_]\w*", token) and not re.fullmatch(r"[0-9A-Fa-f]+", token):
+            known = (names or {}).get(token.upper())
             raise ValueError(f"{token!r}: names are not allowed here; write the bytes in hex "
-                             "(e.g. 02 for STX, 10 for DLE)")
+                             + (f"(e.g. {known:02X} for {token.upper()})" if known is not None else "(e.g. 02 10)"))
         else:
             out += parse_hex(token)
         if len(out) > MAX_STEP_BYTES:

@@ -16,7 +16,7 @@ from __future__ import annotations
 import re
 import tomllib
 from pathlib import Path
-from typing import Any
+from typing import Any, Mapping
 
 from ..procedure import ProcedureError
 from ..registry import by_name
@@ -110,7 +110,7 @@ def vector_from_dict(raw: dict[str, Any], source: str = "<vector>") -> Vector:
     if not isinstance(raw["steps"], list) or not raw["steps"]:
         raise err("steps", "must be a non-empty list of steps")
     steps = tuple(_step(s, f"steps[{i}]", err, proc) for i, s in enumerate(raw["steps"]))
-    expected = _expected(raw.get("expected", {}), err)
+    expected = _expected(raw.get("expected", {}), err, proc.byte_names)
     readings = raw.get("readings", [])
     if not isinstance(readings, list) or any(r not in proc.readings for r in readings):
         bad = next((r for r in readings if r not in proc.readings), readings) if isinstance(readings, list) else readings
@@ -118,7 +118,7 @@ def vector_from_dict(raw: dict[str, Any], source: str = "<vector>") -> Vector:
                   f"({proc.readings[0]}..{proc.readings[-1]})" if proc.readings else "this procedure has no readings")
     rules = raw.get("rules", [])
     if not isinstance(rules, list) or any(not isinstance(r, str) for r in rules):
-        raise err("rules", "a list of rule ids such as [\"3964.RX.BCC-CHECK\"] (ptpcert rules lists them)")
+        raise err("rules", "a list of rule ids of the procedure's catalogue (ptpcert rules lists them)")
     unknown_rules = for_procedure(proc).unknown(rules)
     if unknown_rules:
         raise err("rules", f"{unknown_rules[0]!r} is not a rule of the {proc.title} catalogue "
@@ -170,6 +170,8 @@ def check_times(v: Vector, err) -> None:
     for i, s in enumerate(v.steps):
         for key in ("at", "gap", "duration", "after", "within", "max_gap"):
             e = getattr(s, key)
+            if e is None:   # the procedure's own default
+                e = Expr(v.proc.max_gap)
             bad = names_in(e) - allowed
             if bad:
                 raise err(f"steps[{i}].{key}", f"{e.text!r}: unknown name {sorted(bad)[0]!r}, not a timer of "
@@ -197,11 +199,11 @@ def _params(proc, raw: Any, fld: str, err):
         raise err(f"{fld}.{exc.key}" if exc.key else fld, str(exc).split(": ", 1)[-1]) from None
 
 
-def _hex(value: Any, fld: str, err) -> bytes:
+def _hex(value: Any, fld: str, err, names: Mapping[str, int] | None = None) -> bytes:
     if not isinstance(value, str):
         raise err(fld, "must be a string of hex bytes such as \"02 10\"")
     try:
-        return parse_vector_hex(value)
+        return parse_vector_hex(value, names)
     except ValueError as exc:
         raise err(fld, str(exc)) from None
 
@@ -224,6 +226,7 @@ def _step(raw: Any, fld: str, err, proc=None) -> Step:
     if not isinstance(raw, dict):
         raise err(fld, "must be a table such as { send = \"02\" }")
     macros = dict(proc.macro_steps) if proc is not None else {}
+    byte_names = proc.byte_names if proc is not None else None
     known = STEP_KINDS + tuple(macros)
     kinds = [k for k in known if k in raw]
     if len(kinds) != 1:
@@ -236,7 +239,7 @@ def _step(raw: Any, fld: str, err, proc=None) -> Step:
         raise err(f"{fld}.{extra[0]}", f"not allowed in a {kind} step (allowed: {', '.join(sorted(allowed))})")
     kw: dict[str, Any] = {"kind": kind, "note": raw.get("note", "")}
     if kind in DATA_KINDS or macro is not None:
-        kw["data"] = _hex(raw[kind], f"{fld}.{kind}", err)
+        kw["data"] = _hex(raw[kind], f"{fld}.{kind}", err, byte_names)
         if macro is None and not kw["data"]:
             raise err(f"{fld}.{kind}", "must not be empty")
         if macro is not None and not 1 <= len(kw["data"]) <= macro.max_data:
@@ -277,7 +280,7 @@ def _step(raw: Any, fld: str, err, proc=None) -> Step:
         if "or" in raw:
             if not isinstance(raw["or"], list) or not raw["or"]:
                 raise err(f"{fld}.or", "a non-empty list of hex strings")
-            kw["alternatives"] = tuple(_hex(a, f"{fld}.or[{i}]", err) for i, a in enumerate(raw["or"]))
+            kw["alternatives"] = tuple(_hex(a, f"{fld}.or[{i}]", err, byte_names) for i, a in enumerate(raw["or"]))
     return Step(**kw)
 
 
@@ -296,7 +299,7 @@ def _status_list(raw: Any, fld: str, err) -> list[frozenset[int]]:
     return out
 
 
-def _expected(raw: Any, err) -> Expected:
+def _expected(raw: Any, err, names: Mapping[str, int] | None = None) -> Expected:
     if not isinstance(raw, dict):
         raise err("expected", "must be a table")
     unknown = sorted(set(raw) - _EXPECTED_KEYS)
@@ -313,7 +316,7 @@ def _expected(raw: Any, err) -> Expected:
         v = raw.get(name, [])
         if not isinstance(v, list):
             raise err(f"expected.{name}", "a list of hex payloads")
-        return tuple(_hex(x, f"expected.{name}[{i}]", err) for i, x in enumerate(v))
+        return tuple(_hex(x, f"expected.{name}[{i}]", err, names) for i, x in enumerate(v))
 
     return Expected(spec("iut_status"), spec("tester_status"), blocks("delivered"),
                     blocks("sent"), blocks("echo_after"))

@@ -77,7 +77,9 @@ class Step:
     duration: Expr = ZERO
     after: Expr = ZERO
     within: Expr = ZERO
-    max_gap: Expr = Expr("CDT")
+    #: None: the procedure's longest gap between the characters of one transmission
+    #: (:attr:`ptpcert.procedure.Procedure.max_gap`)
+    max_gap: Expr | None = None
     partial: bool = False
     optional: bool = False
     absent_grade: str = "pass"
@@ -112,7 +114,7 @@ class Step:
             if self.after != ZERO:
                 d["after"] = str(self.after)
             d["within"] = str(self.within)
-            if self.kind == "expect" and self.max_gap != Expr("CDT"):
+            if self.kind == "expect" and self.max_gap is not None:
                 d["max_gap"] = str(self.max_gap)
             if self.partial:
                 d["partial"] = True

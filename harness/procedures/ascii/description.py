@@ -177,6 +177,8 @@ class AsciiProcedure(Procedure):
     tables = ("ascii",)
     groups = GROUPS
     time_names = ("CDT", "XONWAIT")
+    #: a receiver's character delay time: the gap it still waits for a further character
+    max_gap = "CDT"
     readings = tuple(f"Q{i}" for i in range(1, 29)) + ("d_hold", "d_break", "d_start_up")
     requirements = ("echo", MODEM_LINES)
     #: slow_reader: the application reads a stored frame only after a while (ptpcert iut

@@ -8,8 +8,7 @@ from typing import Any, Mapping
 from ptpcert.model.app import Host
 from ptpcert.model.errors import ParameterError
 from ptpcert.model.hexbytes import hexstr, parse_hex
-from ptpcert.model.line import BAUD_RATES
-from ptpcert.procedure import MacroStep, Mutant, Procedure, ProcedureError
+from ptpcert.procedure import Mutant, Procedure, ProcedureError
 from ptpcert.procedures.p3964.model import codec
 from ptpcert.procedures.p3964.model.params import T_BLOCK, T_NAKTIM, Params3964
 from ptpcert.procedures.p3964.model.station import Station3964
@@ -41,6 +40,9 @@ class P3964Procedure(Procedure):
     names = ("3964R", "3964")
     groups = GROUPS
     time_names = ("CDT", "ADT", "NAKTIM", "BLOCK")
+    #: a receiver's character delay time: the gap it still waits for a further character
+    max_gap = "CDT"
+    byte_names = {name: byte for byte, name in codec.CONTROL_NAMES.items()}
     readings = tuple(f"A{i}" for i in range(1, 28))
     #: the grade of the other reading of each open point the model can take either way
     #: (docs/readings.md gives the manual's text, both readings and why): A4 (is the setup

@@ -70,6 +70,9 @@ class Rk512Procedure(Procedure):
     tables = ("rk512",)
     groups = GROUPS
     time_names = ("CDT", "ADT", "NAKTIM", "BLOCK", "TRES")
+    #: a receiver's character delay time: the gap it still waits for a further character
+    max_gap = "CDT"
+    byte_names = {name: byte for byte, name in codec.CONTROL_NAMES.items()}
     readings = READING_NAMES
     #: cpu_stop: the partner CPU is in STOP (every command gets REATEL 2Ah, §7.3; Table 8-1
     #: 16#060D); flag_set: coordination flag {flag} (B.b) is set at the start and cleared by
