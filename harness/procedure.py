@@ -133,6 +133,12 @@ class Procedure:
         """Inverse of :meth:`params_from_table`."""
         raise NotImplementedError
 
+    def params_with(self, params: Any, **changes: Any) -> Any:
+        """``params`` with some values changed (a vector's bound parameters on a profile's);
+        raises ValueError where they do not go together. By default for a frozen dataclass."""
+        from dataclasses import replace
+        return replace(params, **changes)
+
     def param_names(self) -> frozenset[str]:
         """Parameter names a vector may bind (``binds``)."""
         raise NotImplementedError

@@ -115,5 +115,5 @@ def test_its_rules_are_traced(toy):
     assert "TOY.REPLY.ACK" in text and "TOY.SUITE.ENQ-ACK" in text and "TOY.REPLY.IGNORE" in text
     assert "TOY.APP.LOG" in text and "not on the line" in text
     assert run("rules", "--procedure", "TOY", "--check").returncode == 0
-    p = run("vectors", "--check", "--select", "TOY.*")
+    p = run("vectors", "--check", "--select", "TOY.*", "-v")
     assert p.returncode == 0 and "TOY.ENQ-ACK" in p.stdout, p.stdout + p.stderr

@@ -59,7 +59,7 @@ class CaseRunner:
         p = self.profile.params
         fixed = {name: getattr(v.params, name) for name in v.binds}
         try:
-            return p.with_(**fixed) if fixed else p
+            return v.proc.params_with(p, **fixed) if fixed else p
         except ValueError:
             return v.params  # no such IUT: the bound values do not go with the profile's (unsupported)
 

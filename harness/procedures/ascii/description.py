@@ -234,6 +234,9 @@ class AsciiProcedure(Procedure):
     def params_table(self, params: AsciiParams) -> dict[str, Any]:
         return params.to_dict()
 
+    def params_with(self, params, **changes: Any):
+        return params.with_(**changes)   # re-validated, with the model's own rules for a change
+
     def param_names(self) -> frozenset[str]:
         return frozenset(f.name for f in fields(AsciiParams) if f.init)
 

@@ -95,6 +95,9 @@ class P3964Procedure(Procedure):
             d.pop("baud_rate")
         return d
 
+    def params_with(self, params, **changes: Any):
+        return params.with_(**changes)   # re-validated, with the model's own rules for a change
+
     def param_names(self) -> frozenset[str]:
         return frozenset(f.name for f in fields(Params3964) if f.init)
 

@@ -145,6 +145,9 @@ class Rk512Procedure(Procedure):
         d.update(rk)
         return d
 
+    def params_with(self, params, **changes: Any):
+        return params.with_(**changes)   # re-validated, with the model's own rules for a change
+
     def param_names(self) -> frozenset[str]:
         return frozenset(_LINE_FIELDS) | frozenset(_RK_FIELDS) | {"procedure"}
 
