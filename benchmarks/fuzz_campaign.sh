@@ -25,13 +25,13 @@ run() {  # name, url, priority
 mkdir -p "$DIR"
 names=("$@")
 if [ ${#names[@]} -eq 0 ]; then
-    names=(unbroken $(python3 -c "from ptpcert.mutants import MUTANTS; print(' '.join(MUTANTS))"))
+    names=(unbroken $(python3 -c "from ptpcert.procedures.p3964.mutants import MUTANTS; print(' '.join(MUTANTS))"))
 fi
 for m in "${names[@]}"; do
     if [ "$m" = unbroken ]; then
         run unbroken "exec:ptpcert iut --cdt-ms 20 --adt-ms 20 --parmrk" low
         continue
     fi
-    prio=$(python3 -c "from ptpcert.mutants import MUTANTS; print(MUTANTS['$m'].profile.get('priority', 'low'))") || exit 2
+    prio=$(python3 -c "from ptpcert.procedures.p3964.mutants import MUTANTS; print(MUTANTS['$m'].profile.get('priority', 'low'))") || exit 2
     run "$m" "exec:ptpcert iut --cdt-ms 20 --adt-ms 20 --parmrk --priority $prio --mutant $m" "$prio"
 done

@@ -10,7 +10,7 @@ for d in "$DIR"/*/; do
     m=$(basename "$d")
     ls "$d"/*.toml >/dev/null 2>&1 || continue
     if [ "$m" = unbroken ]; then echo "unbroken: has findings (!)"; bad=1; continue; fi
-    prio=$(python3 -c "from ptpcert.mutants import MUTANTS; print(MUTANTS['$m'].profile.get('priority', 'low'))")
+    prio=$(python3 -c "from ptpcert.procedures.p3964.mutants import MUTANTS; print(MUTANTS['$m'].profile.get('priority', 'low'))")
     prof="$DIR/profile-$prio.toml"
     n=$(ls "$d"/*.toml | wc -l)
     ptpcert run --iut "exec:ptpcert iut --cdt-ms 20 --adt-ms 20 --parmrk --priority $prio --mutant $m" \

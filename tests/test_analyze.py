@@ -2,7 +2,7 @@
 
 Captures of conforming exchanges come from two model stations wired together (model.link)
 and from runs of the suite against the model (sim:); broken ones from the broken variants
-(ptpcert.mutants) and from stations with the other reading of an open point. What a
+(ptpcert.procedures.p3964.mutants) and from stations with the other reading of an open point. What a
 finding must cite is the manual's reference of the rule the variant breaks, written here
 from the manual's structure (§2.2.2's paragraphs, the figures), not copied from output."""
 

@@ -1,5 +1,5 @@
 """The kill matrix of the cases added for the rules catalogue: each case fails the broken
-variant made for it (a mutant of ptpcert.mutants that breaks exactly the rule the case checks)
+variant made for it (a mutant of ptpcert.procedures.p3964.mutants that breaks exactly the rule the case checks)
 and passes the bundled reference, in the setting the variant needs. The whole suite against
 every variant is tests/test_suite.py::test_every_mutant_is_caught; the matrix with every case
 that catches each variant is benchmarks/kill_matrix.py."""
