@@ -173,19 +173,13 @@ class SeatFrames(FrameJudging):
                     if flag is not None and flag[0] != K.NO_FLAG and p.memory.flag_exists(*flag):
                         p.memory.set_flag(*flag, 1 - p.readings.amb07_locked_value)
             self.plog.append(("rx", t, frame))
-            p.frame_received(t, frame)
-            for e in p.expect:
-                if e.since >= t - EPS:
-                    e.since = t
+            p.received(t, frame)
             self._codes(run, p)
         else:
             a = self.active
             a.at(t)
             self.alog.append(("rsp", t, frame))
-            a.frame_received(t, frame)
-            for e in a.expect:
-                if e.since >= t - EPS:
-                    e.since = t
+            a.received(t, frame)
             self._codes(run, a)
 
     def sent(self, run, t: float, frame: bytes) -> None:

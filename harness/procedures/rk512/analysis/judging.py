@@ -92,14 +92,21 @@ class FrameJudging:
                           f"RK 512 {what} missing: {_CONT_MISSING[0]} ({_CONT_MISSING[1]})",
                           expected=f"{what} within {t_res:g} ms", observed="nothing")
 
+    def _came_late(self, origin: str) -> bool:
+        """Is the seat's frame one it owed (``origin`` as in :class:`Expect`) that was reported
+        missing already? Then it came late, and is off the list."""
+        late = next((x for x in self.overdue if x.origin == origin), None)
+        if late is not None:
+            self.overdue.remove(late)
+            return True
+        return False
+
     def _response(self, run, at: float, t: float, frame: bytes, anchored: bool) -> None:
         p = self.passive
         e = p.first("P")
         if e is None:
-            late = next((x for x in self.overdue if x.origin == "P"), None)
-            if late is not None:
-                self.overdue.remove(late)     # the late response, reported missing already
-                return
+            if self._came_late("P"):
+                return          # the late response, reported missing already
             if anchored:
                 self._finding(run, at, R.FAIL, "unexpected", _UNASKED,
                               f"sent RK 512 {K.describe(frame)} where it owes no response: {_UNASKED[0]} "
@@ -153,10 +160,8 @@ class FrameJudging:
         a = self.active
         e = a.first("A")
         if e is None:
-            late = next((x for x in self.overdue if x.origin == "A"), None)
-            if late is not None:
-                self.overdue.remove(late)     # the late continuation, reported missing already
-                return
+            if self._came_late("A"):
+                return          # the late continuation, reported missing already
             text = f"sent RK 512 {K.describe(frame)} where no continuation is due"
             if anchored and not self._active_alternatives(run, at, t, frame, "continuation", text, _CONT_UNASKED):
                 self._finding(run, at, R.FAIL, "unexpected", _CONT_UNASKED,

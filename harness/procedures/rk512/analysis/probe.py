@@ -154,6 +154,14 @@ class Probe(Rk512Core):
             setattr(new, k, copy.deepcopy(v, memo))
         return new
 
+    def received(self, t: float, frame: bytes) -> None:
+        """The seat took ``frame`` at ``t``: what it makes the seat owe is due from ``t`` (not
+        from the instant the probe's clock shows)."""
+        self.frame_received(t, frame)
+        for e in self.expect:
+            if e.since >= t - EPS:
+                e.since = t
+
     def at(self, t: float, inclusive: bool = False) -> None:
         """Run the timers due before ``t`` (inputs of an instant go before its deadlines), or
         by ``t`` (``inclusive``)."""

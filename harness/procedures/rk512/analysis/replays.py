@@ -16,9 +16,8 @@ from __future__ import annotations
 
 import copy
 from dataclasses import replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, Callable
 
-from ptpcert.analysis.interface import EPS
 from ptpcert.model.codes import Code
 from ptpcert.procedures.rk512.analysis.probe import Probe, generous
 from ptpcert.procedures.rk512.model import codec as K
@@ -78,32 +77,29 @@ class Replays:
                                "application (§6.3.2 'Using interprocessor communication flags')", "lock"))
         for name, cond in conditions:
             out.append((name, "condition", "", self._replay(params, RK512_READINGS, None, log, cond)))
-        t_res = params.t_res
-        for factor, words in ((0.95, "early"), (1.25, "late")):
-            tr = factor * t_res + (self.late_abs if factor > 1 else 0.0)
-            out.append((f"with its T_RES running out {1000 * abs(tr - t_res):.0f} ms {words} (within the "
-                        "tolerance of a timer)", "timing", "", self._replay(params, RK512_READINGS, tr, log, None)))
-        for name, change in self._alternatives():
-            out.append((f"with the other reading of the manual's open point {name} "
-                        f"({_READING_WORDS.get(name, 'see ptpcert.model.rk512.readings')})", "reading", name,
-                        self._replay(params, replace(RK512_READINGS, **change), None, log, None)))
-        return out
+        return out + self._timings_and_readings(params, lambda r, tr: self._replay(params, r, tr, log, None))
 
     def active_alternatives(self, frames: SeatFrames, log: list[tuple], t: float):
         """The active side replayed up to ``t`` with each alternative: (description, kind,
         reading, probe)."""
         params = frames.params
+        return self._timings_and_readings(params, lambda r, tr: self._replay_active(params, r, tr, log, t))
+
+    def _timings_and_readings(self, params, replay: Callable[[Any, float | None], Probe]) -> list:
+        """The alternatives of either side but the conditions: the seat's T_RES running out
+        early or late within the tolerance of a timer, and the other reading of each open
+        point, each replayed by ``replay(readings, t_res)`` (None: the seat's T_RES):
+        (description, kind, reading, probe)."""
         out = []
         t_res = params.t_res
-        for factor in (0.95, 1.25):
+        for factor, words in ((0.95, "early"), (1.25, "late")):
             tr = factor * t_res + (self.late_abs if factor > 1 else 0.0)
-            words = "early" if factor < 1 else "late"
             out.append((f"with its T_RES running out {1000 * abs(tr - t_res):.0f} ms {words} (within the "
-                        "tolerance of a timer)", "timing", "", self._replay_active(params, RK512_READINGS, tr, log, t)))
+                        "tolerance of a timer)", "timing", "", replay(RK512_READINGS, tr)))
         for name, change in self._alternatives():
             out.append((f"with the other reading of the manual's open point {name} "
                         f"({_READING_WORDS.get(name, 'see ptpcert.model.rk512.readings')})", "reading", name,
-                        self._replay_active(params, replace(RK512_READINGS, **change), None, log, t)))
+                        replay(replace(RK512_READINGS, **change), None)))
         return out
 
     @staticmethod
@@ -143,10 +139,7 @@ class Replays:
                 if condition == "lock" and len(frame) >= K.HEADER_LEN and frame[0] == K.FIRST and frame[8] != K.NO_FLAG \
                         and p.memory.flag_exists(frame[8], frame[9] & 15):
                     p.memory.set_flag(frame[8], frame[9] & 15, p.readings.amb07_locked_value)
-                p.frame_received(t, frame)
-                for e in p.expect:
-                    if e.since >= t - EPS:
-                        e.since = t
+                p.received(t, frame)
             elif x[0] == "ack":
                 e = p.take("P")
                 if e is not None:
