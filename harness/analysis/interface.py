@@ -16,14 +16,19 @@ It sits at the bottom of the analysis: the seat run (:mod:`~ptpcert.analysis.sea
 judge (:mod:`~ptpcert.analysis.judge`), the line (:mod:`~ptpcert.analysis.line`) and each
 procedure's analyzer (``ptpcert.procedures.*.analysis``) import it; it imports none of them.
 The annotations that name ``SeatRun`` and ``LineAnalysis`` are the classes of those modules,
-left unimported so that nothing here depends on them.
+imported for type checkers only (``TYPE_CHECKING``), so that nothing here depends on them when
+it runs.
 """
 
 from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
-from typing import Any, Callable, NamedTuple
+from typing import TYPE_CHECKING, Any, Callable, NamedTuple
+
+if TYPE_CHECKING:
+    from ptpcert.analysis.line import LineAnalysis
+    from ptpcert.analysis.seat import SeatRun
 
 SEATS = ("a", "b")
 OTHER = {"a": "b", "b": "a"}

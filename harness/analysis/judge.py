@@ -16,17 +16,21 @@ What a run finds is provisional until the run reaches its next rest point; the j
 it final there (:meth:`SeatJudge.committed`), and keeps, per chunk, whether the seat's model
 was at rest when it began - what the line (:mod:`ptpcert.analysis.line`, which owns the
 judges) needs to cut the line into exchanges. ``analysis`` is that
-:class:`~ptpcert.analysis.line.LineAnalysis` (not imported: it imports this module).
+:class:`~ptpcert.analysis.line.LineAnalysis` (imported for type checkers only: it imports this
+module).
 """
 
 from __future__ import annotations
 
 from math import inf
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ptpcert import results as R
 from ptpcert.analysis.interface import EPS, OTHER, Finding
 from ptpcert.analysis.seat import SeatRun
+
+if TYPE_CHECKING:
+    from ptpcert.analysis.line import LineAnalysis
 
 
 class SeatJudge:

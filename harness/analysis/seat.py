@@ -23,8 +23,8 @@ byte inside a window only because of the resolution is graded informational, nev
 One class, one piece: the stepping loop, the explanations and the comparison all move the
 same position in both seats' items and the same model, and hand each other the run's state
 (the stage of the seat's next byte, the bytes held while their windows are open), so they are
-not split. ``judge`` is the :class:`~ptpcert.analysis.judge.SeatJudge` that owns the run (not
-imported: the judge imports this module).
+not split. ``judge`` is the :class:`~ptpcert.analysis.judge.SeatJudge` that owns the run
+(imported for type checkers only: the judge imports this module).
 """
 
 from __future__ import annotations
@@ -32,10 +32,13 @@ from __future__ import annotations
 import bisect
 import copy
 from math import inf
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ptpcert import results as R
 from ptpcert.analysis.interface import EPS, QUANTUM, WAIT, Cause, Finding, Item, Variant
+
+if TYPE_CHECKING:
+    from ptpcert.analysis.judge import SeatJudge
 
 
 class SeatRun:
