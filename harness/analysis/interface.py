@@ -26,6 +26,8 @@ import re
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Callable, NamedTuple
 
+from ptpcert import results as R
+
 if TYPE_CHECKING:
     from ptpcert.analysis.line import LineAnalysis
     from ptpcert.analysis.seat import SeatRun
@@ -333,3 +335,34 @@ def strip_section(rule: str) -> str:
     """A rule sentence without a leading section number of our own notes (e.g. "§2.2.2 items
     1-3: ")."""
     return re.sub(r"^§[\d.\-]+(?: items? [\d\-]+)?:\s*", "", rule)
+
+
+def at_ms(t: float) -> str:
+    """A time on the capture's clock, for people: ``"12.500 ms"``."""
+    return f"{t * 1000:.3f} ms"
+
+
+def show_item(kit: "ProcedureAnalyzer", o: Item | None) -> str:
+    """What a seat sent, for people: a byte by the procedure's name for it, a BREAK, a
+    character with a parity or framing error."""
+    if o is None:
+        return "nothing"
+    if o.kind == "break":
+        return "a BREAK"
+    if o.kind == "invalid":
+        return f"{kit.name(o.value)} with a parity/framing error"
+    return kit.name(o.value)
+
+
+def resolution_finding(seat: str, cause: Cause, name: str, due: float, at: float, d: float, resolution: float,
+                       window: tuple[float, float]) -> Finding:
+    """A byte in its window only because of the capture's timing resolution: informational.
+    (A byte that answers the other seat cannot be too early: it came after what it answers,
+    only the timestamps say otherwise.)"""
+    side = "early" if d < 0 else "late"
+    return Finding(
+        seat, at, R.INFORMATIONAL, "timing", cause.rule, cause.reference,
+        f"{name} {1000 * abs(d):.3f} ms {side}, within the capture's timing resolution "
+        f"({1000 * resolution:.3f} ms) of its window: {cause.rule} ({cause.reference})",
+        expected=f"{name} at {at_ms(due)}", observed=f"{name} at {at_ms(at)}", window=window, rules=cause.rules)
+

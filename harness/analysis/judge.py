@@ -22,6 +22,8 @@ module).
 
 from __future__ import annotations
 
+import bisect
+
 from math import inf
 from typing import TYPE_CHECKING, Any
 
@@ -63,6 +65,11 @@ class SeatJudge:
         self.anchored = False
 
     # -- provisional results become final at rest points ----------------------------------
+    def partner_sent_between(self, lo: float, hi: float) -> bool:
+        """Did the other seat send anything stamped after ``lo`` and by ``hi``?"""
+        i = bisect.bisect_right(self.inputs, lo, key=lambda it: it.t)
+        return i < len(self.inputs) and self.inputs[i].t <= hi
+
     def committed(self, run: SeatRun) -> None:
         if run is self.run:
             if not self.anchored and (run.i_in, run.i_obs) != run.start_pos:

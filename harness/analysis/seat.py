@@ -29,13 +29,13 @@ not split. ``judge`` is the :class:`~ptpcert.analysis.judge.SeatJudge` that owns
 
 from __future__ import annotations
 
-import bisect
 import copy
 from math import inf
 from typing import TYPE_CHECKING, Any
 
 from ptpcert import results as R
-from ptpcert.analysis.interface import EPS, QUANTUM, WAIT, Cause, Finding, Item, Variant
+from ptpcert.analysis.interface import (EPS, QUANTUM, WAIT, Cause, Finding, Item, Variant, at_ms, resolution_finding,
+                                       show_item)
 
 if TYPE_CHECKING:
     from ptpcert.analysis.judge import SeatJudge
@@ -303,8 +303,8 @@ class SeatRun:
                 self.failed = Finding(self.judge.seat, o.t, R.FAIL, "start-up", rule, ref,
                                       f"no start-up {kit.startup_name(self.judge.seat)}: the station's first "
                                       f"character after it was switched on "
-                                      f"is {self._show(o)}; {rule} ({ref})",
-                                      expected=rule, observed=self._show(o), codes=(code,) if code else ())
+                                      f"is {show_item(self.kit, o)}; {rule} ({ref})",
+                                      expected=rule, observed=show_item(self.kit, o), codes=(code,) if code else ())
                 return None
         else:
             e = kit.explain(self, o, idx)
@@ -365,15 +365,6 @@ class SeatRun:
         return None
 
     # -- comparing ------------------------------------------------------------------------
-    def _show(self, o: Item | None) -> str:
-        if o is None:
-            return "nothing"
-        if o.kind == "break":
-            return "a BREAK"
-        if o.kind == "invalid":
-            return f"{self.kit.name(o.value)} with a parity/framing error"
-        return self.kit.name(o.value)
-
     def _compare(self, s: float, b: int, cause: Cause, entry: Any, k: int) -> Any:
         """The model has begun to send ``b`` at ``s``: compare with the seat's next byte.
         False: it matches; True: a difference (see :attr:`failed`); WAIT: its window is still
@@ -393,7 +384,8 @@ class SeatRun:
             # the usual case: the byte the model sends, in its window
             d = o.t - p
             if (d < -cause.early - EPS and cause.kind == "timer") or d > cause.late + EPS:
-                self._timing(cause, self._name(cause, entry, k, b), p, o, d, lo, hi)
+                self.findings.append(resolution_finding(j.seat, cause, self._name(cause, entry, k, b), p, o.t, d,
+                                                        self.res, (lo, hi)))
             self.i_obs += 1
             self.stage = 0
             self._snapshot = None
@@ -428,72 +420,51 @@ class SeatRun:
                     j.seat, p, R.FAIL, "missing", cause.rule, cause.reference,
                     f"{name} {1000 * (o.t - p):.3f} ms late (it may be {1000 * cause.late:.3f} ms late): "
                     f"{cause.rule} ({cause.reference})",
-                    expected=f"{name} by {self._at(hi)}", observed=f"{name} at {self._at(o.t)}",
+                    expected=f"{name} by {at_ms(hi)}", observed=f"{name} at {at_ms(o.t)}",
                     window=(lo, hi), codes=codes, rules=cause.rules)
                 return True
-            got = "nothing" if o is None else f"{self._show(o)} only {1000 * (o.t - p):.3f} ms later"
+            got = "nothing" if o is None else f"{show_item(self.kit, o)} only {1000 * (o.t - p):.3f} ms later"
             self.failed = Finding(
                 j.seat, p, R.FAIL, "missing", cause.rule, cause.reference,
-                f"{name} missing: {cause.rule} ({cause.reference}); due by {self._at(hi)}, "
+                f"{name} missing: {cause.rule} ({cause.reference}); due by {at_ms(hi)}, "
                 f"the seat sent {got}",
-                expected=f"{name} at {self._at(p)}", observed=got, window=(lo, hi), codes=codes, rules=cause.rules)
+                expected=f"{name} at {at_ms(p)}", observed=got, window=(lo, hi), codes=codes, rules=cause.rules)
             return True
         if o.kind != "byte" or o.value != b:
             cause = self.kit.wrong(self, o, b, cause)
             codes = (cause.code,) if cause.code else ()
             self.failed = Finding(
                 j.seat, o.t, R.FAIL, "wrong", cause.rule, cause.reference,
-                f"sent {self._show(o)} where the model sends {name}: {cause.rule} ({cause.reference})",
-                expected=f"{name} at {self._at(p)}", observed=f"{self._show(o)} at {self._at(o.t)}",
+                f"sent {show_item(self.kit, o)} where the model sends {name}: {cause.rule} ({cause.reference})",
+                expected=f"{name} at {at_ms(p)}", observed=f"{show_item(self.kit, o)} at {at_ms(o.t)}",
                 window=(lo, hi), codes=codes, rules=cause.rules,
-                order_free=k > 0 and entry is not None and not self._partner_between(self.kit.entry_start(entry), o.t))
+                order_free=k > 0 and entry is not None and not j.partner_sent_between(self.kit.entry_start(entry), o.t))
             return True
         if o.t < lo:
             self.failed = Finding(
                 j.seat, o.t, R.FAIL, "early", cause.rule, cause.reference,
                 f"{name} {1000 * (p - o.t):.3f} ms too early: {cause.rule} ({cause.reference})",
-                expected=f"{name} at {self._at(p)}", observed=f"{name} at {self._at(o.t)}",
+                expected=f"{name} at {at_ms(p)}", observed=f"{name} at {at_ms(o.t)}",
                 window=(lo, hi), codes=codes, rules=cause.rules)
             return True
         raise AssertionError("unreachable")   # pragma: no cover
-
-    def _partner_between(self, lo: float, hi: float) -> bool:
-        """Did the other seat send anything stamped after ``lo`` and by ``hi``?"""
-        inputs = self.judge.inputs
-        i = bisect.bisect_right(inputs, lo, key=lambda it: it.t)
-        return i < len(inputs) and inputs[i].t <= hi
-
-    def _timing(self, cause: Cause, name: str, p: float, o: Item, d: float, lo: float, hi: float) -> None:
-        """In its window only because of the capture's timing resolution: informational. (A
-        byte that answers the other seat cannot be too early: it came after what it
-        answers, only the timestamps say otherwise.)"""
-        side = "early" if d < 0 else "late"
-        self.findings.append(Finding(
-            self.judge.seat, o.t, R.INFORMATIONAL, "timing", cause.rule, cause.reference,
-            f"{name} {1000 * abs(d):.3f} ms {side}, within the capture's timing resolution "
-            f"({1000 * self.res:.3f} ms) of its window: {cause.rule} ({cause.reference})",
-            expected=f"{name} at {self._at(p)}", observed=f"{name} at {self._at(o.t)}", window=(lo, hi), rules=cause.rules))
-
-    @staticmethod
-    def _at(t: float) -> str:
-        return f"{t * 1000:.3f} ms"
 
     def _unexpected(self, o: Item, t: float) -> None:
         """The seat sent ``o`` and the model does not send it: say what the model does next."""
         later = self._peek(o)
         host = self._snapshot[0] if self._snapshot is not None else self.host
         cause = self.kit.unexpected(self, host, o, later)
-        shown = self._show(o)
+        shown = show_item(self.kit, o)
         if later is not None and o.kind == "byte" and later[1] == o.value:
             msg = f"{shown} {1000 * (later[0] - o.t):.3f} ms too early: {cause.rule} ({cause.reference})"
-            kind, expected = "early", f"{shown} at {self._at(later[0])}"
+            kind, expected = "early", f"{shown} at {at_ms(later[0])}"
         else:
             msg = f"sent {shown} where the model sends nothing: {cause.rule} ({cause.reference})"
             kind = "unexpected"
             expected = ("nothing" if later is None
-                        else f"nothing, then {self.kit.name(later[1])} at {self._at(later[0])}")
+                        else f"nothing, then {self.kit.name(later[1])} at {at_ms(later[0])}")
         self.failed = Finding(self.judge.seat, o.t, R.FAIL, kind, cause.rule, cause.reference, msg,
-                              expected=expected, observed=f"{shown} at {self._at(o.t)}",
+                              expected=expected, observed=f"{shown} at {at_ms(o.t)}",
                               codes=(cause.code,) if cause.code else (), rules=cause.rules)
 
     def _peek(self, o: Item) -> tuple[float, int, Cause] | None:
