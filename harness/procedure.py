@@ -299,7 +299,7 @@ class Procedure:
     def analyzer(self, params_a: Any, params_b: Any, *, apps: Mapping[str, str] | None = None,
                  late_ms: float = 50.0) -> Any:
         """The procedure's part of judging a recorded or live link between two stations
-        (:class:`ptpcert.analyze.ProcedureAnalyzer`): ``params_a``/``params_b`` are the
+        (:class:`ptpcert.analysis.ProcedureAnalyzer`): ``params_a``/``params_b`` are the
         stations' parameters in seats a and b, ``apps`` their applications ("echo" or
         "none"), ``late_ms`` how late a station may act on its own timer. None while the
         procedure has none."""

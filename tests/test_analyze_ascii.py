@@ -3,7 +3,7 @@ link judged against the ASCII model.
 
 Captures of conforming exchanges come from two model ASCII drivers wired together
 (model.link) and from runs of the suite against the model (sim:); broken ones from the broken
-variants (ptpcert.mutants_ascii). What a finding must cite is the manual's reference of the
+variants (ptpcert.procedures.ascii.mutants). What a finding must cite is the manual's reference of the
 rule each variant breaks (§2.2.4's paragraphs, the figures and tables), written here from the
 manual's structure, not copied from output."""
 

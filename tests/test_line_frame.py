@@ -1,5 +1,5 @@
 """The character frame an IUT sets on a pseudo-terminal, read back and compared with the
-profile (ptpcert.line_frame): what SUITE.FRAME.PROFILE-FRAME asks the harness to check with
+profile (ptpcert.transport.line_frame): what SUITE.FRAME.PROFILE-FRAME asks the harness to check with
 extra.check_line_settings. The stand-in is the reference IUT set to another frame than its
 profile, as issue 10's 8N1 implementation was."""
 

@@ -4,7 +4,7 @@ Each port hears one station's transmit line (e.g. the two receive wires of a Y c
 pseudo-terminal a tap writes to). Nothing is ever written to a port. Every read is stamped
 with the time it returned: a UART hands a character over some time after its stop bit (its
 receive FIFO timeout, then the driver's latency), so the timestamps lag the line by up to
-the *timing resolution* the analysis is told (:func:`ptpcert.cli_analyze.resolution_for`).
+the *timing resolution* the analysis is told (:func:`ptpcert.cli.analyze.resolution_for`).
 Line conditions come as termios PARMRK marks when ``parmrk`` is set: a real UART is put in
 that mode; on a pseudo-terminal the writer marks them in-band.
 """
@@ -115,7 +115,7 @@ class Monitor:
     def run(self, analysis, writer, *, stop: Callable[[], bool], duration: float | None = None,
             tick: float = 0.02, resolution: float = 0.01) -> float:
         """Read until ``stop()`` or ``duration`` (or both ports have ended): every read becomes
-        chunks for ``analysis`` (a :class:`~ptpcert.analyze.LineAnalysis`) and ``writer``
+        chunks for ``analysis`` (a :class:`~ptpcert.analysis.LineAnalysis`) and ``writer``
         (a :class:`~ptpcert.capture.PcapWriter` or :class:`~ptpcert.capture.HexLogWriter`).
         A thread of its own reads the ports and stamps what it reads at once; the analysis
         runs beside it. When that thread came to a port so late that it found more characters

@@ -1,5 +1,5 @@
 """The ``analyze`` and ``monitor`` commands: judge a recorded or live link between two
-stations (see :mod:`ptpcert.analyze`)."""
+stations (see :mod:`ptpcert.analysis`)."""
 
 from __future__ import annotations
 

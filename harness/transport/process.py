@@ -406,7 +406,7 @@ class PtyTransport(ProcessTransport):
     def line_settings(self) -> dict | None:
         """The character frame the IUT set on the pseudo-terminal, in the profile's terms
         (baud_rate, data_bits, parity, stop_bits), with only the fields this system's ptys
-        keep (:mod:`ptpcert.line_frame`); for a case that compares it with the profile."""
+        keep (:mod:`ptpcert.transport.line_frame`); for a case that compares it with the profile."""
         from ptpcert.transport.line_frame import pty_keeps, read_frame
         try:
             frame = read_frame(self.slave)

@@ -1,4 +1,4 @@
-"""The 3964 / 3964R state machine, drawn from the transition table (:mod:`ptpcert.model.table`).
+"""The 3964 / 3964R state machine, drawn from the transition table (:mod:`ptpcert.procedures.p3964.model.table`).
 
 :func:`svg` returns a self-contained SVG picture: the states as boxes, the decisions (the
 flowcharts' diamonds) as diamonds, every row and decision outcome as an arrow labelled with

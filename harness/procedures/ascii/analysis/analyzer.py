@@ -165,7 +165,7 @@ class AsciiAnalyzer(LocalEvents, Causes, ProcedureAnalyzer):
                         readings=replace(DEFAULT, a_xoff_repeated=True)),
             ] + [
                 Variant(name, f"with the other reading of the manual's open point {name} "
-                              f"({_READING_WORDS.get(name, 'see ptpcert.model.ascii.readings')})",
+                              f"({_READING_WORDS.get(name, 'see ptpcert.procedures.ascii.model.readings')})",
                         readings=replace(DEFAULT, model=replace(READINGS, **change)))
                 for name, change in alts]
         return out + self._variants

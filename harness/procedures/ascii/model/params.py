@@ -1,7 +1,7 @@
 """Parameters of a CP 341 ASCII driver (§2.3.3: Tables 2-7, 2-8, 2-9, 2-10; Table A-7).
 
 :class:`AsciiParams` is frozen and validated on construction. An invalid setting raises
-:class:`~ptpcert.model.params.ParameterError` naming the parameter, the value and the rule
+:class:`~ptpcert.model.errors.ParameterError` naming the parameter, the value and the rule
 it breaks, in one line. A parameter that the configuration does not use (end characters
 without the end-character criterion, XON/XOFF codes without XON/XOFF flow control...) is
 ignored, as the parameter tool greys it out (Table 2-7 footnotes 1 and 3, Table 2-9

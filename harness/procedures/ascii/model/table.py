@@ -14,7 +14,7 @@ where the row raises one, the STATUS code (Table 8-1). Actions (``_rx_<action>``
 ``_tx_<action>``, ``_fc_<action>``) and decisions (``_d_<decision>``, a diamond of the
 flowchart that picks the next state) are implemented in :mod:`.station`. A row whose action
 is :data:`IMPOSSIBLE` cannot occur (a timer that is not running in that state); the station
-raises :class:`~ptpcert.model.station.ModelError` if it is ever fed one.
+raises :class:`~ptpcert.model.errors.ModelError` if it is ever fed one.
 
 Inputs are classified by the station before the table is consulted: a received character
 is END when it completes the end criterion (the end character, the second of two end

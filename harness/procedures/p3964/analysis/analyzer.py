@@ -114,7 +114,7 @@ class P3964Analyzer(LocalEvents, Causes, ProcedureAnalyzer):
             # nothing else changed says that a busy buffer explains the seat (Fig. 2-11)
             self._variants = [Variant("buffer", _BUFFER_WORDS, kind="buffer")] + [
                 Variant(name, f"with the other reading of the manual's open point {name} "
-                              f"({_READING_WORDS.get(name, 'see ptpcert.model.readings')})",
+                              f"({_READING_WORDS.get(name, 'see ptpcert.procedures.p3964.model.readings')})",
                         readings=replace(READINGS, **change))
                 for name, change in (kit.alternatives if kit is not None else ())]
         return out + self._variants

@@ -98,7 +98,7 @@ class Replays:
                         "tolerance of a timer)", "timing", "", replay(RK512_READINGS, tr)))
         for name, change in self._alternatives():
             out.append((f"with the other reading of the manual's open point {name} "
-                        f"({_READING_WORDS.get(name, 'see ptpcert.model.rk512.readings')})", "reading", name,
+                        f"({_READING_WORDS.get(name, 'see ptpcert.procedures.rk512.model.readings')})", "reading", name,
                         replay(replace(RK512_READINGS, **change), None)))
         return out
 

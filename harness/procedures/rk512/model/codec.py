@@ -2,7 +2,7 @@
 Tables 6-4 to 6-8; §8.4, Table 8-3).
 
 An RK 512 frame is the user data of one 3964(R) block; the 3964(R) framing (STX, DLE
-doubling, DLE ETX, BCC) is the link's business (:mod:`ptpcert.model.codec`). Every function
+doubling, DLE ETX, BCC) is the link's business (:mod:`ptpcert.procedures.p3964.model.codec`). Every function
 here is a function of its arguments: no state, no time, no I/O. Decoders accept any byte
 values (the fuzzer feeds them garbage); only encoders check ranges.
 
@@ -209,7 +209,7 @@ def command_header(op: str, area: Area | str, number: int, address: int, length:
     * ``cf``: the coordination flag (R_CF_BYT, R_CF_BIT) or None; ``cpu``: R_CPU_NO or None.
 
     No range checks beyond what the bytes can hold: the local checks of the active side are
-    :func:`ptpcert.model.rk512.requests.local_check`.
+    :func:`ptpcert.procedures.rk512.model.requests.local_check`.
     """
     area = Area(area)
     if op == "send":

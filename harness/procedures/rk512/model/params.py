@@ -2,9 +2,9 @@
 
 :class:`Rk512Params` is frozen and validated on construction. Its fields are the keys of
 the ``[rk512]`` table of an IUT profile, one to one, plus the link's own parameter set
-(``line``, a :class:`~ptpcert.model.params.Params3964`: RK 512 uses 3964(R) with the same
+(``line``, a :class:`~ptpcert.procedures.p3964.model.params.Params3964`: RK 512 uses 3964(R) with the same
 parameters as stand-alone 3964(R), §2.3.2). Invalid settings raise
-:class:`~ptpcert.model.params.ParameterError` naming the field and the rule.
+:class:`~ptpcert.model.errors.ParameterError` naming the field and the rule.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ _LINE_FIELDS = frozenset(f.name for f in fields(Params3964) if f.init)
 def default_response_time_ms(baud_rate: int | None) -> int:
     """T_RES when the profile gives none. The manual's figures (Figs. 2-18/2-19) say
     "T_RES = 5 s (7 s, 10 s) depending on the transmission rate"; the reading taken (open
-    point AMB-02, :class:`~ptpcert.model.rk512.readings.Rk512Readings`) is 5 s at 1200 bit/s
+    point AMB-02, :class:`~ptpcert.procedures.rk512.model.readings.Rk512Readings`) is 5 s at 1200 bit/s
     and above, 7 s at 600 bit/s and 10 s at 300 bit/s. The CP 341's prose value is 10 s at
     every rate; a profile that wants it says ``response_time_ms = 10000``."""
     if baud_rate is None or baud_rate >= 1200:

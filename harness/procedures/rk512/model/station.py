@@ -3,7 +3,7 @@ which stays the link (§2.2.1: RK 512 uses 3964(R) for all line traffic; every R
 is the user data of one 3964(R) block, §2.2.3).
 
 :class:`Rk512Station` presents the same driver interface as
-:class:`~ptpcert.model.station.Station3964` (``power_on``, ``line_event``,
+:class:`~ptpcert.procedures.p3964.model.station.Station3964` (``power_on``, ``line_event``,
 ``next_deadline``, ``handle_timer``, ``pop_output[_runs]``, ``pop_events``,
 ``delay_output``, ``request_send``, ``idle``, ``pending_jobs``, ``state``, ``params`` with
 ``char_time``, ``late_timers_act_now``), so ``drive_station``, the ``sim:`` transport and
