@@ -3,7 +3,7 @@
     python benchmarks/bench_fuzz.py [--examples 200] [--seconds 30] [--workers 4]
 
 * level 1: examples per second of the model-against-model state machine
-  (tests/test_fuzz_model.py, virtual time), and steps per second within them;
+  (tests/procedures/p3964/test_fuzz_model.py, virtual time), and steps per second within them;
 * level 2: examples per second of `ptpcert fuzz` against the reference implementation as a
   real process over exec: at 20 ms timers (each example is a real exchange on the pipe),
   with 1 worker and with 4 (`--workers`), and the ratio.
@@ -21,7 +21,7 @@ from hypothesis import settings
 from ptpcert.fuzz.settings import register_profiles
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))
+sys.path.insert(0, str(ROOT / "tests" / "procedures" / "p3964"))
 
 
 def level1(examples: int) -> None:

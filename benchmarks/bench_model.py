@@ -52,13 +52,13 @@ def exchanges_per_second(baud, seconds: float, payload: bytes) -> tuple[float, f
 
 
 def level1(examples: int, seed: int) -> tuple[float, float, float] | None:
-    """The level-1 fuzzer (tests/test_fuzz_model.py, ``fuzz``) for ``examples`` examples
+    """The level-1 fuzzer (tests/procedures/p3964/test_fuzz_model.py, ``fuzz``) for ``examples`` examples
     from a fixed seed, so that the repeats and a later version of the test run the same
     examples (as far as hypothesis keeps to a seed). (examples per CPU second, per wall
     second, invariant checks per CPU second: one at the start of an example and one after
     each of its steps), or None when an example fails: that is a finding, not a figure (it is
     not shrunk here; ``--seed N --show-failure`` shrinks and prints it)."""
-    sys.path.insert(0, str(ROOT / "tests"))
+    sys.path.insert(0, str(ROOT / "tests" / "procedures" / "p3964"))
     import test_fuzz_model as m
     from hypothesis import Phase, Verbosity, settings
 

@@ -1,5 +1,5 @@
 """Reports of a flooding IUT: their size and how long writing them takes. Prints figures;
-asserts nothing (tests/test_robust.py holds the goal: results.json < 5 MB, all reports in
+asserts nothing (tests/core/test_robust.py holds the goal: results.json < 5 MB, all reports in
 < 10 s).
 
     python benchmarks/bench_reports.py [--bytes 10000000] [--select GLOB ...]

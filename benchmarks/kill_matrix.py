@@ -31,7 +31,7 @@ from ptpcert.transport import make_factory
 ROOT = Path(__file__).resolve().parent.parent
 PY = sys.executable
 INDEPENDENT = ROOT / "tests" / "independent" / "iut3964.py"
-sys.path.insert(0, str(ROOT / "tests"))
+sys.path[:0] = [str(ROOT / "tests" / "procedures" / d) for d in ("rk512", "ascii")]
 
 
 def run(url: str, profile) -> R.RunResult:

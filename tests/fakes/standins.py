@@ -1,7 +1,7 @@
 """Stand-in IUTs that take a reading the manual allows but the reference model does not: each
 is the reference station with one defensible difference, run in virtual time through the sim:
 transport. A correct implementation may behave like any of them, so the suite must not fail
-them (tests/test_grading.py). Unlike the broken variants (ptpcert.procedures.p3964.mutants) they are no
+them (tests/core/test_grading.py). Unlike the broken variants (ptpcert.procedures.p3964.mutants) they are no
 defects; they live with the tests and may use the station's internals."""
 
 from __future__ import annotations

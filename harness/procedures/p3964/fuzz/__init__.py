@@ -21,7 +21,7 @@ limit that a real process can honour: "just under" a timer is 70 % of it, "just 
 and no stimulus lands closer to one of the IUT's deadlines than the runner's real-time
 tolerance can tell apart (before the edge: how late the tester's byte may go out plus two
 characters; after it: how late the IUT's timer may act and still pass); the exact edges are
-fuzzed in virtual time by level 1 (tests/test_fuzz_model.py). Every time in a generated
+fuzzed in virtual time by level 1 (tests/procedures/p3964/test_fuzz_model.py). Every time in a generated
 vector counts forwards: output that began while the tester was still sending is measured
 from the step before that stimulus (``since = "mark"``), never with a negative offset.
 

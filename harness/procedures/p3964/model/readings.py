@@ -5,7 +5,7 @@ changes what the station does (on the wire, or the STATUS events it raises) is o
 here, named after its ambiguity number. :data:`READINGS` holds the best readings (the
 defaults the model uses); a station can be built with other readings to check that a
 conformance case grades the alternative correctly instead of failing it. Every field
-changes the station's behaviour when flipped (tests/test_table.py shows how).
+changes the station's behaviour when flipped (tests/procedures/p3964/test_table.py shows how).
 """
 
 from __future__ import annotations

@@ -18,7 +18,7 @@ finding unless a model with another reading of an open point of the manual (the 
 Timing stimuli keep a margin from every limit a real process can honour: T_RES is probed at
 30 %, 70 % and 150 %, CDT at 50 % and 150 %, and no stimulus lands within 15 % of the
 shortest link timer (plus two characters) of one of the model's deadlines. Exact edges are
-level 1's (tests/test_fuzz_rk512_model.py).
+level 1's (tests/procedures/rk512/test_fuzz_rk512_model.py).
 
 The kit in modules along its jobs: :mod:`.cosim` (the model IUT in virtual time and the
 steps of the vector), :mod:`.requests` (a request in progress, a command header),

@@ -1,0 +1,88 @@
+"""The small commands: ptpcert status, ptpcert vectors [--check], ptpcert report."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+PY = sys.executable
+
+
+def cli(*args):
+    return subprocess.run([PY, "-m", "ptpcert.cli", *args], cwd=ROOT, capture_output=True, text=True, timeout=300)
+
+
+def test_status_lookup_in_every_notation():
+    for code in ("16#0808", "0x0808", "0808"):
+        p = cli("status", code)
+        assert p.returncode == 0 and p.stdout.startswith("16#0808") and "Table 8-1" in p.stdout
+    p = cli("status", "--list")
+    assert p.returncode == 0 and "80 events" in p.stdout and len(p.stdout.splitlines()) == 81
+
+
+def test_unknown_status_is_a_clear_error():
+    p = cli("status", "16#0705")
+    assert p.returncode == 2 and "16#0705 is not in the CP 341 catalogue" in p.stderr
+    p = cli("status", "hello")
+    assert p.returncode == 2 and "not a STATUS code" in p.stderr
+
+
+def test_vectors_list_and_check():
+    p = cli("vectors")
+    assert p.returncode == 0 and "3964R.FIG2-6.RECEIVE" in p.stdout
+    n = int(p.stdout.strip().splitlines()[-1].split()[0])
+    assert n >= 40
+    p = cli("vectors", "--check")
+    assert p.returncode == 0 and p.stdout.strip().endswith(f"{n} vectors, {n} passed, 0 failed")
+
+
+def test_vectors_check_fails_on_a_wrong_vector_and_reports_a_broken_one(tmp_path):
+    src = (ROOT / "vectors/p3964/fig2-6-receive.toml").read_text()
+    (tmp_path / "wrong.toml").write_text(src.replace('expect = "10", within = "ADT", note = "DLE: the block',
+                                                     'expect = "15", within = "ADT", note = "DLE: the block'))
+    p = cli("vectors", "--check", "--dir", str(tmp_path))
+    assert p.returncode == 1 and "1 vectors, 0 passed, 1 failed" in p.stdout and "FAIL 3964R.FIG2-6.RECEIVE" in p.stdout
+    (tmp_path / "broken.toml").write_text(src.replace('group = "receive"', 'group = "recieve"'))
+    p = cli("vectors", "--dir", str(tmp_path))
+    assert p.returncode == 2 and "broken.toml: group:" in p.stderr
+
+
+def test_report_renders_a_saved_run(tmp_path):
+    j = tmp_path / "r.json"
+    p = cli("run", "--iut", "sim:", "--profile", str(ROOT / "conformance/profiles/reference-20ms.toml"),
+            "--select", "3964R.D0*", "--json", str(j), "-q")
+    assert p.returncode == 0
+    p = cli("report", str(j), "--junit", str(tmp_path / "j.xml"), "--html", str(tmp_path / "r.html"))
+    assert p.returncode == 0 and (tmp_path / "j.xml").exists() and (tmp_path / "r.html").exists()
+    data = json.loads(j.read_text())
+    assert data["schema"] == "ptpcert-results/2" and all("transcript" in c for c in data["cases"])
+    bad = tmp_path / "bad.json"
+    bad.write_text("{}")
+    p = cli("report", str(bad))
+    assert p.returncode == 2 and "not a ptpcert results object" in p.stderr
+
+
+def test_the_reference_iut_starts_without_what_it_does_not_need():
+    """An exec: IUT is started for every case, so its start-up is part of every case's
+    time: `ptpcert iut` (3964R) loads neither the ASCII station nor the capture and
+    analysis modules."""
+    done = subprocess.run([PY, "-X", "importtime", "-m", "ptpcert.cli", "iut", "--cdt-ms", "20",
+                           "--adt-ms", "20", "--parmrk"], stdin=subprocess.DEVNULL, capture_output=True,
+                          text=True, timeout=60)
+    loaded = {line.rsplit("|", 1)[-1].strip() for line in done.stderr.splitlines() if line.startswith("import time:")}
+    assert "ptpcert.procedures.p3964.model.station" in loaded and "ptpcert.iut" in loaded   # the import log is read
+    for heavy in ("ptpcert.procedures.ascii.model.station", "ptpcert.capture", "ptpcert.cli.analyze", "ptpcert.cli.rules"):
+        assert heavy not in loaded, f"ptpcert iut loads {heavy}"
+
+
+def test_the_ascii_model_loads_each_name_on_first_use():
+    import ptpcert.procedures.ascii.model as m
+
+    for name in m.__all__:
+        assert getattr(m, name) is not None
+    assert m.AsciiStation.__module__ == "ptpcert.procedures.ascii.model.station"
+    with pytest.raises(AttributeError):
+        m.NoSuchName
