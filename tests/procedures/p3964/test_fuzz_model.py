@@ -414,7 +414,7 @@ def test_two_model_stations_keep_the_invariants():
 
 def test_level_1_finds_a_station_that_counts_a_data_dle_once_in_the_bcc(monkeypatch):
     """The driver and the invariants together catch a broken model: both stations built
-    from the variant that counts a doubled data DLE once in the BCC (harness/mutants.py)."""
+    from the variant that counts a doubled data DLE once in the BCC (harness/procedures/p3964/mutants/)."""
     from hypothesis import Phase
 
     from ptpcert.procedures.p3964.mutants import MUTANTS
