@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -38,7 +39,8 @@ def toy(tmp_path_factory):
     venv = tmp / "venv"
     subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True, timeout=300)
     py = venv / "bin" / "python"
-    p = subprocess.run([str(py), "-m", "pip", "install", "-q", str(ROOT), str(TOY)], capture_output=True, text=True,
+    toy = shutil.copytree(TOY, tmp / "toy", ignore=shutil.ignore_patterns("build", "*.egg-info", "__pycache__"))
+    p = subprocess.run([str(py), "-m", "pip", "install", "-q", str(ROOT), str(toy)], capture_output=True, text=True,
                        timeout=900)
     assert p.returncode == 0, p.stderr[-3000:]
     work = tmp / "work"
