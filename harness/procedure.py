@@ -101,6 +101,8 @@ class Procedure:
     requirements: tuple[str, ...] = ()
     #: names of the ``[iut.setups]`` entries its cases may use
     setups: tuple[str, ...] = ()
+    #: the words the bundled reference (``ptpcert iut``) takes for each setup
+    reference_setups: Mapping[str, str] = {}
     #: step kinds of its own, expanded into send/expect steps before a run, by name
     macro_steps: Mapping[str, MacroStep] = {}
     #: the module of its conformance suite, with ``cases(profile) -> list[Vector]`` (every
@@ -120,6 +122,13 @@ class Procedure:
     def profile_keys(self) -> tuple[str, ...]:
         """The [iut] keys it reads (for the error that lists the allowed keys)."""
         raise NotImplementedError
+
+    def profile_schema(self) -> tuple[Any, ...]:
+        """Its keys in the profile (:class:`ptpcert.schema.Key`: in [iut] and its own
+        tables), each with its kind, allowed values, default and the manual's table: the
+        profile loader checks every key's value against it before :meth:`params_from_profile`
+        checks them together; the property tests draw profiles from it."""
+        return ()
 
     def profile_dict(self, params: Any) -> dict[str, Any]:
         """The parameters as profile keys, for reports."""
@@ -185,6 +194,14 @@ class Procedure:
 
     def apps(self) -> tuple[str, ...]:
         return ("echo", "none")
+
+    def profile_app(self, profile: Any) -> str:
+        """The application of the reference IUT a profile describes (``sim:`` and ``ptpcert
+        iut --profile`` run it): ``none`` where nothing makes the IUT send (``send_trigger =
+        "none"``) and the procedure has that application, else its first."""
+        if profile.send_trigger == "none" and "none" in self.apps():
+            return "none"
+        return self.apps()[0]
 
     # -- sim: -----------------------------------------------------------------------------
     #: options of a ``sim:`` URL every procedure knows

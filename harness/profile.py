@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from . import schema
 from .procedure import Procedure, ProcedureError
 
 #: [iut] keys every procedure has
@@ -169,6 +170,15 @@ def profile_from_dict(raw: dict[str, Any], where: str = "<profile>") -> Profile:
     for t, v in tables.items():
         if not isinstance(v, dict):
             raise ProfileError(where, t, "must be a table")
+    for key in proc.profile_schema():   # every key's value against the schema; together below
+        table = iut if key.table == "iut" else tables.get(key.table, {})
+        if key.name not in table:
+            if key.required:
+                raise ProfileError(where, key.path, schema.missing(key))
+            continue
+        why = schema.problem(key, table[key.name])
+        if why:
+            raise ProfileError(where, key.path, why)
     try:
         params = proc.params_from_profile(own, tables)
     except ProcedureError as exc:

@@ -15,7 +15,11 @@ def add_commands(sub) -> None:
                        description="The reference model as a real-time station on stdin/stdout (or --port), "
                                    "with its application. STATUS events go to stderr as 'STATUS 16#XXXX' lines.")
     i.add_argument("--procedure", choices=all_names(), default=None,
-                   help=f"the procedure (default {procedures()[0].names[0]})")
+                   help=f"the procedure (default {procedures()[0].names[0]}, or the profile's)")
+    i.add_argument("--profile", metavar="FILE", default=None,
+                   help="run the reference configured from this IUT profile, every key (its procedure, "
+                        "parameters, application and line conditions); the options below then only add "
+                        "what the profile does not say (a setup, a mutant)")
     i.add_argument("--cdt-ms", type=int, default=None, help="character delay time (default: the procedure's)")
     i.add_argument("--baud", type=int, default=9600, help="baud rate; 0: do not pace the output")
     i.add_argument("--data-bits", type=int, choices=[7, 8], default=8)
@@ -42,6 +46,17 @@ def cmd_iut(args) -> int:
     from ptpcert.iut import run_iut
     from ptpcert.registry import by_name, procedures
 
+    profile = None
+    if args.profile:
+        from ptpcert.cli.common import load_profile
+        profile = load_profile("iut", args.profile)
+        if profile is None:
+            return 2
+        if args.procedure and by_name(args.procedure) is not profile.procedure:
+            print(f"ptpcert iut: --procedure {args.procedure} but the profile is {profile.procedure.title}'s",
+                  file=sys.stderr)
+            return 2
+        args.procedure = args.procedure or profile.procedure.names[0]
     proc = by_name(args.procedure) if args.procedure else procedures()[0]
     args.procedure = args.procedure or proc.names[0]
     if args.list_mutants:
@@ -53,16 +68,17 @@ def cmd_iut(args) -> int:
               file=sys.stderr)
         return 2
     if args.app is None:
-        args.app = proc.apps()[0]
+        args.app = proc.profile_app(profile) if profile is not None else proc.apps()[0]
     if args.app not in proc.apps():
         print(f"ptpcert iut: --app {args.app!r}: allowed values are {', '.join(proc.apps())}", file=sys.stderr)
         return 2
     from ptpcert.procedure import ProcedureError
     try:
-        params = proc.params_from_iut(args)
+        params = profile.params if profile is not None else proc.params_from_iut(args)
         host = proc.iut_host(params, args)
     except ProcedureError as exc:
         print(f"ptpcert iut: {exc}", file=sys.stderr)
         return 2
+    parmrk = args.parmrk or (profile is not None and profile.line_conditions == "parmrk")
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
-    return run_iut(host, proc.line(params), parmrk=args.parmrk, port=args.port, verbose=args.verbose)
+    return run_iut(host, proc.line(params), parmrk=parmrk, port=args.port, verbose=args.verbose)

@@ -285,7 +285,8 @@ def _make_factory(url: str, profile, *, prespawn: int = 2) -> Factory:
         return ProcessFactory(cls, cmd, parmrk, status, prespawn, command_for, proc.start_ahead)
     if url.startswith("sim:"):
         from .sim import parse_sim_url
-        opts = parse_sim_url(url)
+        # the IUT the profile declares, unless the URL's options say otherwise
+        opts = {"app": proc.profile_app(profile), **parse_sim_url(url)}
         try:
             proc.sim_options(dict(opts))
         except ValueError as exc:

@@ -186,10 +186,15 @@ class AsciiProcedure(Procedure):
     #: driver at start-up (ptpcert iut --send HEX,...), for the send rules an echo cannot
     #: reach (data after the end character, LEN 0 or 1025)
     setups = ("slow_reader", "send_job")
+    reference_setups = REFERENCE_SETUPS
 
     # -- profiles and parameters ----------------------------------------------------------
     def reference_profile(self, **settings: Any):
         return reference_profile(**settings)
+
+    def profile_schema(self):
+        from .profile_keys import SCHEMA
+        return SCHEMA
 
     def profile_keys(self) -> tuple[str, ...]:
         return IUT_KEYS

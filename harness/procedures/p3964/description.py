@@ -59,11 +59,16 @@ class P3964Procedure(Procedure):
     #: no_buffer: the IUT's application never frees its receive buffer (Fig. 2-11), so an STX
     #: is answered with NAK after T_NAKTIM (16#080A); ``ptpcert iut --buffer full``
     setups = ("no_buffer",)
+    reference_setups = {"no_buffer": "--buffer full"}
     #: prime: the tester delivers the payload as a conforming sender (STX, DLE, block, DLE)
     macro_steps = {"prime": PRIME}
     suite = "ptpcert.conformance.p3964"
 
     # -- profiles and parameters ----------------------------------------------------------
+    def profile_schema(self):
+        from .link import LINK_SCHEMA
+        return LINK_SCHEMA
+
     def profile_keys(self) -> tuple[str, ...]:
         return tuple(LINK_KEYS)
 

@@ -1,5 +1,7 @@
 """What a procedure that runs on the 3964/3964R link takes of it (RK 512 does): the [iut] keys
-of the link in a profile and their checks, and the ``prime`` step, in which the tester hands the
+of the link in a profile (their schema, Tables 2-3 to 2-5: the ranges every setting allows;
+what depends on another key, the timers' minimum at a low baud rate, the model's parameters
+check) and their checks, and the ``prime`` step, in which the tester hands the
 IUT a block as a conforming sender. The 3964 description uses the same pieces."""
 
 from __future__ import annotations
@@ -9,8 +11,35 @@ from typing import Any
 from ptpcert.model.line import BAUD_RATES
 from ptpcert.procedure import MacroStep, ProcedureError
 from ptpcert.scenario import Expr, Step
+from ptpcert.schema import Key
 
 from .model import codec
+from .model.params import ATTEMPTS_RANGE, TIMER_MAX_MS, TIMER_STEP_MS, min_timer_ms
+
+_TIMER = dict(kind="int", lo=20, hi=TIMER_MAX_MS, step=TIMER_STEP_MS, unit="ms", ref="Table 2-4",
+              floor=("baud_rate", {b: min_timer_ms(b) for b in BAUD_RATES}))
+
+#: the link's keys in [iut] (the parameter each sets: description.LINK_KEYS)
+LINK_SCHEMA: tuple[Key, ...] = (
+    Key("priority", "iut", "choice", "the station's priority in an initialization conflict (the two "
+        "partners must have different ones)", ref="Table 2-5", choices=("low", "high")),
+    Key("character_delay_ms", "iut", doc="CDT: the longest gap between two characters a receiver "
+        "accepts (its minimum rises at 1200 bit/s and below)", **_TIMER),
+    Key("acknowledgement_delay_ms", "iut", doc="ADT: how long a sender waits for the partner's DLE "
+        "(its minimum rises at 1200 bit/s and below)", **_TIMER),
+    Key("setup_attempts", "iut", "int", "how often a sender tries to set up a connection (STX) before "
+        "it gives up", ref="Table 2-4", lo=ATTEMPTS_RANGE[0], hi=ATTEMPTS_RANGE[1]),
+    Key("transmission_attempts", "iut", "int", "how often a sender tries to send a block, the first "
+        "attempt included", ref="Table 2-4", lo=ATTEMPTS_RANGE[0], hi=ATTEMPTS_RANGE[1]),
+    Key("baud_rate", "iut", "choice", "the transmission rate in bit/s", ref="Table 2-5",
+        default=9600, choices=BAUD_RATES),
+    Key("data_bits", "iut", "choice", "data bits of the character frame", ref="Table 2-5",
+        default=8, choices=(7, 8)),
+    Key("parity", "iut", "choice", "parity bit of the character frame", ref="Table 2-5",
+        default="even", choices=("none", "odd", "even")),
+    Key("stop_bits", "iut", "choice", "stop bits of the character frame", ref="Table 2-5",
+        default=1, choices=(1, 2)),
+)
 
 #: [iut] keys of a 3964/3964R profile and the parameter each sets (defaults where optional)
 LINK_KEYS = {

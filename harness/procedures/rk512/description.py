@@ -79,6 +79,7 @@ class Rk512Procedure(Procedure):
     #: the application {reset_ms} ms after it was set (§6.3.2 "Using interprocessor
     #: communication flags")
     setups = ("cpu_stop", "flag_set")
+    reference_setups = {"cpu_stop": "--cpu-stop", "flag_set": "--cf-set {flag}@{reset_ms}"}
     #: prime: the tester delivers a frame as a conforming 3964(R) sender; receive: the IUT
     #: sends one (or one of ``or``) and the tester receives it as a conforming receiver (the
     #: IUT's STX in [after, within], within ADT unless the vector says otherwise)
@@ -88,6 +89,25 @@ class Rk512Procedure(Procedure):
     send_triggers = ("none",)
 
     # -- profiles and parameters ----------------------------------------------------------
+    def profile_schema(self):
+        from .profile_keys import SCHEMA
+        return SCHEMA
+
+    def reference_profile(self, **settings: Any):
+        """The profile of ``ptpcert iut --procedure RK512 --cdt-ms 20 --adt-ms 20 --parmrk
+        --requests {requests}`` with its setups: the 3964R link at low priority, 6 attempts,
+        T_RES 500 ms, the default memory; ``settings``: [iut] and [rk512] keys changed."""
+        from ptpcert.profile import profile_from_dict
+        iut: dict[str, Any] = dict(procedure="RK512", priority="low", character_delay_ms=20,
+                                   acknowledgement_delay_ms=20, setup_attempts=6, transmission_attempts=6,
+                                   send_trigger="none", line_conditions="parmrk", status_from_stderr=True,
+                                   setups=dict(self.reference_setups))
+        table: dict[str, Any] = {"response_time_ms": 500}
+        iut_keys = set(self.profile_keys()) | {"send_trigger", "line_conditions", "status_from_stderr", "setups"}
+        for key, value in settings.items():
+            (iut if key in iut_keys else table)[key] = value
+        return profile_from_dict({"iut": iut, "rk512": table})
+
     def profile_keys(self) -> tuple[str, ...]:
         return tuple(LINK_KEYS)
 

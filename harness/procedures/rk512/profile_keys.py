@@ -1,0 +1,41 @@
+"""The keys of an RK 512 profile, as the profile schema (:mod:`ptpcert.schema`) declares them:
+the 3964R link's keys in ``[iut]`` (the character frame has 8 data bits, §2.3.2) and the
+``[rk512]`` table: the link, T_RES, the roles the IUT plays, how it is made to request, and
+what its memory offers (facts about the IUT, not parameters of the manual)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from ptpcert.procedures.p3964.link import LINK_SCHEMA
+from ptpcert.schema import Key
+
+from .model.params import LINKS, MEMORY_MODES, REQUEST_MODES, ROLES
+
+_AREA = 65536
+
+SCHEMA: tuple[Key, ...] = tuple(
+    replace(k, choices=(8,), doc=k.doc + " (8 for RK 512, §2.3.2)") if k.name == "data_bits" else k
+    for k in LINK_SCHEMA) + (
+    Key("link", "rk512", "choice", "the procedure below RK 512: 3964R (with BCC) or 3964 (without; open "
+        "point AMB-27)", ref="Table 2-3", default="3964R", choices=LINKS),
+    Key("response_time_ms", "rk512", "int", "T_RES, the response monitoring time of both sides; left out: "
+        "the model's reading of the manual's default (AMB-02)", ref="§2.2.3 'response monitoring time'; "
+        "Figs. 2-18, 2-19", default=None, lo=10, hi=3_600_000, unit="ms"),
+    Key("roles", "rk512", "subset", "the roles the IUT can be tested in: passive (it serves SEND and FETCH), "
+        "active (it issues them)", ref="§2.2.3", default=list(ROLES), choices=ROLES),
+    Key("requests", "rk512", "choice", "how a tester makes the IUT request: by a request script handed to its "
+        "command ({requests}), or not at all", default="script", choices=REQUEST_MODES),
+    Key("memory", "rk512", "choice", "what the IUT's memory holds at start: the pattern of the reference "
+        "(data can be checked), or unknown", default="pattern", choices=MEMORY_MODES),
+    Key("db_range", "rk512", "pair", "the DB numbers that exist", ref="§6.3.2 Table 6-5",
+        default=[1, 199], lo=1, hi=255, size=(2, 2)),
+    Key("dx_range", "rk512", "pair", "the DX numbers that exist ([] for none)", ref="§6.3.2 Table 6-5",
+        default=[1, 199], lo=1, hi=255, size=(0, 2)),
+    Key("db_bytes", "rk512", "int", "the size of every DB and DX", default=512, lo=2, hi=_AREA, step=2,
+        unit="bytes"),
+    Key("byte_area_bytes", "rk512", "int", "the size of the flag, input and output areas", default=256,
+        lo=1, hi=_AREA, unit="bytes"),
+    Key("cell_area_cells", "rk512", "int", "the number of timers and of counters (2 bytes each)",
+        default=256, lo=1, hi=_AREA // 2),
+)
