@@ -62,6 +62,9 @@ def pytest_configure(config) -> None:
     for g in profile.procedure.groups:
         config.addinivalue_line("markers", f"{_group_marker(g)}: ptpcert cases of the group '{g}'")
     config.stash[_STATE] = {"url": url, "profile": profile, "cases": cases, "runner": None}
+    idle = _runner(config).nothing_to_test(cases)
+    if idle:   # every case would skip: a gate must not read that as a pass
+        raise pytest.UsageError(f"ptpcert: {idle}")
 
 
 def pytest_collection_modifyitems(session, config, items) -> None:

@@ -197,6 +197,13 @@ def cmd_run(args) -> int:
             opts = RunOptions(late_ms=args.tolerance_ms, startup_timeout=args.startup_timeout,
                               echo=profile.echo, check_status=profile.status_from_stderr,
                               edge_attempts=args.edge_attempts)
+            idle = Runner(factory, profile, opts).nothing_to_test(cases)
+            if idle:   # a run that judges nothing is no pass: bad usage, nothing run
+                interrupts.disarm()
+                for _, f in pool:
+                    f.shutdown()
+                print(f"ptpcert run: {idle}", file=sys.stderr)
+                return 2
             try:
                 for url, f in pool:
                     preflight(url, f, profile)
