@@ -3,6 +3,7 @@ stations (see :mod:`ptpcert.analysis`)."""
 
 from __future__ import annotations
 
+import os
 import re
 import sys
 import time
@@ -11,7 +12,7 @@ from pathlib import Path
 from ptpcert import priority
 from ptpcert.priority import MODES as PRIORITY_MODES
 
-from .common import load_profile, now
+from .common import load_profile, now, number
 
 #: schemes of ``--iut`` URLs whose transport starts a fresh IUT for every case
 _RESTARTING = ("exec:", "pty:", "sim:")
@@ -33,7 +34,7 @@ def add_commands(sub) -> None:
     _common(a)
     a.add_argument("--from", dest="from_", choices=FORMATS, metavar="FMT", help="the capture's format")
     a.add_argument("--case", metavar="ID", help="from a results object: this case only")
-    a.add_argument("--resolution-ms", type=float, default=None, metavar="MS",
+    a.add_argument("--resolution-ms", type=MS, default=None, metavar="MS",
                    help="how much earlier than its timestamp a character may have been complete "
                         "(default: 0, the timestamps are exact; for a results object of a run against a real "
                         "process or port: one character time + 2 ms)")
@@ -58,16 +59,17 @@ def add_commands(sub) -> None:
     m.add_argument("--parmrk", action="store_true",
                    help="the ports mark line conditions as termios PARMRK does (a real UART is told to; on a "
                         "pseudo-terminal the writer marks them)")
-    m.add_argument("--fifo", type=int, default=8, metavar="CHARS",
+    m.add_argument("--fifo", type=number(int, 1, 4096, "characters"), default=8, metavar="CHARS",
                    help="how many characters the port's receiver may collect before it hands them over "
                         "(default 8: a 16550A UART's receive trigger; its 4-character timeout is less; 1: "
                         "a pseudo-terminal)")
-    m.add_argument("--latency-ms", type=float, default=2.0, metavar="MS",
+    m.add_argument("--latency-ms", type=MS, default=2.0, metavar="MS",
                    help="how long the driver may hold what the receiver handed over before a read returns it "
                         "(default 2; a USB adapter: its latency timer, 16 unless set lower, plus 1)")
-    m.add_argument("--resolution-ms", type=float, default=None, metavar="MS",
+    m.add_argument("--resolution-ms", type=MS, default=None, metavar="MS",
                    help="the timing resolution itself (default: --fifo character times + --latency-ms)")
-    m.add_argument("--duration", type=float, default=None, metavar="SECONDS", help="stop after this long")
+    m.add_argument("--duration", type=number(float, 0.001, 7 * 24 * 3600.0, "seconds"), default=None,
+                   metavar="SECONDS", help="stop after this long (0.001 s to a week)")
     m.add_argument("--priority", choices=PRIORITY_MODES, default="auto",
                    help="the reader thread's scheduling class: auto (default) takes the real-time class where the "
                         "system permits it, realtime insists on it, normal never asks; the analysis stays normal")
@@ -81,7 +83,7 @@ def _common(p) -> None:
     p.add_argument("--profile-a", metavar="FILE", help="seat a's own profile")
     p.add_argument("--profile-b", metavar="FILE", help="seat b's own profile (instead of --profile's)")
     p.add_argument("--judge", choices=["a", "b", "both"], default="both", help="whose deviations count (default both)")
-    p.add_argument("--tolerance-ms", type=float, default=50.0,
+    p.add_argument("--tolerance-ms", type=MS, default=50.0,
                    help="how late a station may act on its own timer, plus 25%% of the timer (default 50)")
     p.add_argument("--junit", metavar="PATH", help="write a JUnit XML file")
     p.add_argument("--json", metavar="PATH", help="write the results object as JSON")
@@ -107,7 +109,28 @@ class Setup:
         return d
 
 
+#: a time option in milliseconds: finite, 0 to a minute
+MS = number(float, 0, 60000, "ms")
+
+
 def _setup(cmd: str, args) -> Setup | None:
+    from ptpcert.cli.reports import report_paths_problem
+    from ptpcert.results import report_path_problem
+
+    # every file this command writes, checked before anything is read or watched: absent or
+    # a regular file, writable, and no two of them (nor the capture read) the same file
+    reading = getattr(args, "capture", None) if cmd == "analyze" else None
+    problem = report_paths_problem(args, ("junit", "json", "html"), reading=reading)
+    if not problem and cmd == "monitor" and args.capture:
+        written = {os.path.realpath(p) for p in (args.junit, args.json, args.html) if p}
+        if os.path.realpath(args.capture) in written:
+            problem = f"--capture {args.capture}: is also a report; give each file its own name"
+        else:
+            why = report_path_problem(args.capture)
+            problem = f"--capture {args.capture}: {why}" if why else None
+    if problem:
+        print(f"ptpcert {cmd}: {problem}", file=sys.stderr)
+        return None
 
     base = load_profile(cmd, args.profile)
     if base is None:

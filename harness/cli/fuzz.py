@@ -55,16 +55,22 @@ def cmd_fuzz(args) -> int:
         return 2
     seed = args.seed if args.seed is not None else random.SystemRandom().randrange(1, 2**31)
     out_dir = args.export or str(findings_dir())
+    # before the first example: a finding must never be lost for want of a place to put it
+    from ptpcert.results import directory_problem
+    problem = directory_problem(out_dir)
+    if problem:
+        print(f"ptpcert fuzz: --export {out_dir}: {problem}", file=sys.stderr)
+        return 2
+    try:
+        from ptpcert.fuzz import open_database
+        open_database(args.database)
+    except (ValueError, OSError) as exc:
+        print(f"ptpcert fuzz: {exc}", file=sys.stderr)
+        return 2
     if args.workers > 1:
         if not args.iut.startswith(("exec:", "pty:", "sim:")):
             print(f"ptpcert fuzz: --workers {args.workers} needs an IUT that can be started several times "
                   f"(exec:, pty:, sim:); {args.iut} is one line", file=sys.stderr)
-            return 2
-        try:
-            from ptpcert.fuzz import open_database
-            open_database(args.database)
-        except (ValueError, OSError) as exc:
-            print(f"ptpcert fuzz: {exc}", file=sys.stderr)
             return 2
         return _fuzz_workers(args, profile, seed, out_dir)
     with Interrupts(args) as interrupts:

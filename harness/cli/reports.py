@@ -24,7 +24,7 @@ def report_paths_problem(args, kinds: tuple[str, ...], reading: str | None = Non
 
     seen: dict[str, str] = {}
     if reading is not None:
-        seen[os.path.realpath(reading)] = "the results file read"
+        seen[os.path.realpath(reading)] = "the file read"
     for kind in kinds:
         path = getattr(args, kind, None)
         if path is None:
