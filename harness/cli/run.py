@@ -134,7 +134,7 @@ def cmd_run(args) -> int:
     from ptpcert.runner import Runner, RunOptions
     from ptpcert.scenario import VectorError, load_vector_sets, vector_set_hash
     from ptpcert.suite import check_expected_failures, load_suite
-    from ptpcert.transport import TransportError, make_factory
+    from ptpcert.transport import TransportError, make_factory, preflight
 
     profile = load_profile("run", args.profile)
     if profile is None:
@@ -206,7 +206,7 @@ def cmd_run(args) -> int:
                 return 2
             try:
                 for url, f in pool:
-                    preflight(url, f, profile)
+                    preflight(url, f, profile.params)
             except TransportError as exc:   # the IUT cannot start: every case is an error, with the reason
                 startup_failure = str(exc)
             if not startup_failure:
@@ -271,14 +271,14 @@ def vector_set_label(extra, only: bool) -> str:
 
 
 def connect(cmd: str, url: str, profile):
-    """The transport factory for ``url``, checked by :func:`preflight`, or None after
+    """The transport factory for ``url``, checked by :func:`ptpcert.transport.preflight`, or None after
     telling why the IUT cannot be reached (the caller exits 2)."""
-    from ptpcert.transport import TransportError, make_factory
+    from ptpcert.transport import TransportError, make_factory, preflight
 
     factory = None
     try:
         factory = make_factory(url, profile)
-        preflight(url, factory, profile)
+        preflight(url, factory, profile.params)
         return factory
     except TransportError as exc:
         if factory is not None:
@@ -287,21 +287,3 @@ def connect(cmd: str, url: str, profile):
         return None
 
 
-def preflight(url: str, factory, profile) -> None:
-    """Start the IUT once before the run: a command that cannot start, or a port that cannot
-    be opened, is found before the first case, not as 50 failed cases."""
-    from ptpcert.transport import RESTART, IUTDied, TransportError
-
-    if RESTART not in factory.capabilities or factory.virtual:
-        return
-    tr = factory(None, profile.params)
-    try:
-        tr.open()
-        tr.read(tr.now() + 1.0)
-    except IUTDied as exc:
-        what = (f"the IUT ended at start-up (exit status {exc.returncode})" if exc.returncode is not None
-                else f"at start-up, {exc}")
-        raise TransportError(f"{url}: {what}"
-                             + (f": {exc.stderr_tail.strip()[-600:]}" if exc.stderr_tail.strip() else "")) from None
-    finally:
-        tr.close()
