@@ -305,11 +305,11 @@ def cmd_monitor(args) -> int:
     path = args.capture or f"monitor-{started.strftime('%Y%m%dT%H%M%SZ')}.pcap"
     try:
         fmt = C.format_of(path)
-    except C.CaptureError as exc:
-        print(f"ptpcert monitor: {exc}", file=sys.stderr)
-        return 2
-    if fmt not in ("pcap", "hexlog"):
-        print(f"ptpcert monitor: the capture is written as it goes: .pcap or .hexlog, not {path}", file=sys.stderr)
+    except C.CaptureError:
+        fmt = None
+    if fmt not in ("pcap", "hexlog"):   # monitor has no --to: the extension says the format
+        print(f"ptpcert monitor: --capture {path}: the capture is written as it goes, as pcap or hex log: "
+              "name it .pcap, .cap, .hexlog, .log or .txt", file=sys.stderr)
         return 2
     judged = _judged(args)
     seats = {"a": args.a, "b": args.b}

@@ -155,8 +155,13 @@ def cmd_run(args) -> int:
         print(f"ptpcert run: {exc}", file=sys.stderr)
         return 2
     if not cases:
-        print("ptpcert run: no case matches --select " + " ".join(args.select or [])
-              + " (the HTML or JSON report of a full run lists the case ids)", file=sys.stderr)
+        if args.select:
+            why = ("no case matches --select " + " ".join(args.select)
+                   + " (the HTML or JSON report of a full run lists the case ids)")
+        else:   # --vectors-only, and none of the vectors is for the profile's procedure
+            why = (f"no case to run: none of the vectors of {vector_set_label(args.vectors, args.vectors_only)} "
+                   f"is for {profile.procedure.title}, the profile's procedure")
+        print(f"ptpcert run: {why}", file=sys.stderr)
         return 2
     # before the first case: a run must never end without the reports it was asked for
     problem = report_paths_problem(args, ("junit", "json", "html", "pcap"))

@@ -76,7 +76,15 @@ def bad_inputs(root: Path) -> dict[str, tuple[list[str], list[str]]]:
     cap = str(root / "cap.pcap")
     analyze = ["analyze", cap, "--profile", P]
     monitor = ["monitor", "--a", "loop://", "--b", "loop://", "--profile", P]
+    other = root / "v-ascii"
+    other.mkdir()
+    (other / "x.toml").write_text((ROOT / "vectors" / "ascii" / "buf-fifo.toml").read_text())
     return {
+        # messages that name the right thing
+        "monitor --capture x.bin": (monitor + ["--capture", str(root / "x.bin")],
+                                    ["--capture", "x.bin", "name it .pcap"]),
+        "run --vectors-only, none for the procedure": (run + ["--vectors", str(other), "--vectors-only"],
+                                                       ["no case to run", "v-ascii", "is for 3964/3964R"]),
         # every command that writes a file checks every output path first, and never replaces
         # a device or a FIFO with a regular file
         "analyze --json /dev/null": (analyze + ["--json", "/dev/null"], ["--json /dev/null", "not a regular file"]),
