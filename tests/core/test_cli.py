@@ -119,3 +119,15 @@ def test_profile_examples_keys_and_check_from_an_empty_directory(tmp_path):
         "[iut]", "[iut]\nbogus_key = 1", 1))
     bad = here("profile", "--check", "bad.toml")
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "bogus_key" in bad.stderr
+
+
+def test_the_console_says_each_divergence_once():
+    """A failed case's divergence is printed once, with its step and time, not again in the
+    message's own words; the timer tolerance line is left out in virtual time when none is
+    declared."""
+    p = cli("run", "--iut", "sim:?mutant=no-dle-doubling", "--profile",
+            str(ROOT / "conformance" / "profiles" / "reference-20ms.toml"), "--select", "3964R.FIG2-5.SEND")
+    assert p.returncode == 1, p.stderr
+    tail = p.stdout[p.stdout.index("not passed:"):]
+    assert tail.count("step 7") == 1 and "step 7, at " in tail, tail
+    assert "IUT timer tolerance" not in p.stdout
