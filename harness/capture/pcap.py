@@ -2,8 +2,9 @@
 LINKTYPE_RTAC_SERIAL (250), which Wireshark and tshark dissect as "RTAC Serial".
 :class:`PcapWriter` writes one record by record as a recorder goes, :func:`write_pcap` /
 :func:`pcap_bytes` a whole capture, and :func:`read_pcap` reads our files and other
-recorders' (either byte order, micro- or nanosecond timestamps). Seat names, line settings,
-notes and marks have no place in pcap. Built on the capture's model; the record layout,
+recorders' (either byte order, micro- or nanosecond timestamps). How the times were taken
+rides in the payload of the start record; seat names, line settings, notes and marks have
+no place in pcap. Built on the capture's model; the record layout,
 and where ptpcert keeps a condition's seat, is specified in ``docs/capture-formats.md``
 ("pcap for Wireshark").
 """
@@ -16,6 +17,7 @@ import struct
 from typing import IO, Iterable
 
 from ptpcert.capture.model import MODEM_LINES, WITH_DATA, Capture, CaptureError, Chunk, Cond, capture_time
+from ptpcert.capture.timing import Timing
 
 LINKTYPE_RTAC_SERIAL = 250
 EPOCH = _dt.datetime(1970, 1, 1, tzinfo=_dt.timezone.utc)
@@ -63,18 +65,39 @@ def _start_us(start: _dt.datetime | None) -> int:
     return 0 if start is None else (start - EPOCH) // _US
 
 
+#: The start record's payload, when it says how the times were taken: this first line,
+#: then ``key: value`` lines (``timing``: :meth:`Timing.text`), UTF-8.
+START_TAG = b"ptpcert-capture 1"
+
+
+def _start_payload(timing: Timing | None) -> bytes:
+    if timing is None:
+        return b""
+    return START_TAG + b"\ntiming: " + timing.text().encode("ascii") + b"\n"
+
+
+def _read_start_payload(payload: bytes) -> Timing | None:
+    timing = None
+    for raw in payload.decode("utf-8", "replace").splitlines()[1:]:
+        key, sep, value = raw.partition(":")
+        if sep and key.strip().lower() == "timing":
+            timing = Timing.parse(value.strip())
+    return timing          # (other keys: a later version's; ignored)
+
+
 class PcapWriter:
     """Writes a pcap file record by record (for a recorder that writes as it goes): the
-    global header and the start record at once, then one or more records per chunk."""
+    global header and the start record at once (saying how the times are taken, when
+    ``timing`` is given), then one or more records per chunk."""
 
-    def __init__(self, fp: IO[bytes], start: _dt.datetime | None = None):
+    def __init__(self, fp: IO[bytes], start: _dt.datetime | None = None, timing: Timing | None = None):
         self.fp = fp
         self.base = _start_us(start)
         if self.base < 0:
             raise CaptureError("pcap cannot hold times before 1970")
         self.lines_a = 0
         fp.write(_GLOBAL.pack(PCAP_MAGIC_US, 2, 4, 0, 0, SNAPLEN, LINKTYPE_RTAC_SERIAL))
-        self._record(0.0, EV_STATUS_CHANGE, 0, _SEAT_FOOTER["a"], b"")
+        self._record(0.0, EV_STATUS_CHANGE, 0, _SEAT_FOOTER["a"], _start_payload(timing))
 
     def _record(self, t: float, event: int, ctrl: int, footer: int, payload: bytes) -> None:
         us = self.base + round(capture_time(t) * 1_000_000)
@@ -112,7 +135,7 @@ class PcapWriter:
 
 def write_pcap(cap: Capture, fp: IO[bytes]) -> None:
     """Write the whole capture as a pcap file."""
-    w = PcapWriter(fp, cap.start)
+    w = PcapWriter(fp, cap.start, cap.timing)
     for c in cap.chunks:
         w.chunk(c)
     w.close(cap.end)
@@ -153,6 +176,7 @@ def read_pcap(data: bytes, source: str = "") -> Capture:
     chunks: list[Chunk] = []
     notes: list[str] = []
     end: float | None = None
+    timing: Timing | None = None
     lines_a = 0
     while pos < len(data):
         n += 1
@@ -180,6 +204,9 @@ def read_pcap(data: bytes, source: str = "") -> Capture:
         try:
             if n == 1 and event == EV_STATUS_CHANGE and ctrl == 0 and not payload:
                 continue     # the start record (ours, or a recorder's with nothing asserted)
+            if n == 1 and event == EV_STATUS_CHANGE and ctrl == 0 and payload.startswith(START_TAG):
+                timing = _read_start_payload(payload)    # ours, saying how the times were taken
+                continue
             if event in (EV_DATA_TX_START, EV_DATA_TX_END, EV_DATA_RX_START, EV_DATA_RX_END):
                 if ctrl != lines_a:   # another recorder's lines changed on a data record
                     chunks.append(Chunk(t, "a", condition=Cond.MODEM, lines=_byte_lines(ctrl)))
@@ -216,5 +243,5 @@ def read_pcap(data: bytes, source: str = "") -> Capture:
     if end is not None and chunks and end < max(c.t for c in chunks):
         notes.append(f"CAPTURE_COMPLETE at {end:.6f} s comes before the last chunk; ignored")
         end = None
-    return Capture(chunks, {"a": "a", "b": "b"}, None, start, end, notes)
+    return Capture(chunks, {"a": "a", "b": "b"}, None, start, end, notes, timing=timing)
 
