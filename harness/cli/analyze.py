@@ -257,7 +257,8 @@ def cmd_analyze(args) -> int:
               + (f"; seat b restarts at each case ({url})" if restart else ""), flush=True)
     an = A.analyze(cap, setup.kit, judge=judged, resolution=resolution, restart_at_cases=restart,
                    source=str(args.capture), listener=listener)
-    notes.append(f"timing resolution {resolution * 1000:.3f} ms")
+    notes.append(f"timing resolution {resolution * 1000:.3f} ms" + (
+        "" if args.resolution_ms is not None or cap.timing is None else f" (the capture's {cap.timing.describe()})"))
     result = A.to_results(an, profile=setup.profile_dict(an.line.judged, resolution), notes=notes)
     result.profile_path = f"seat a: {setup.paths['a']}; seat b: {setup.paths['b']}"
     return _finish(result, args, t0, setup.proc.report_view())
