@@ -36,8 +36,9 @@ def add_commands(sub) -> None:
     a.add_argument("--case", metavar="ID", help="from a results object: this case only")
     a.add_argument("--resolution-ms", type=MS, default=None, metavar="MS",
                    help="how much earlier than its timestamp a character may have been complete "
-                        "(default: 0, the timestamps are exact; for a results object of a run against a real "
-                        "process or port: one character time + 2 ms)")
+                        "(default: what the capture says of how its times were taken, e.g. a run against "
+                        "exec:/pty: three character times + 2 ms, a serial port one + 2 ms, sim: 0; a capture "
+                        "that does not say, and names no run: 0, the timestamps are exact)")
     a.add_argument("--restart-at-cases", choices=["auto", "a", "b", "both", "none"], default="auto",
                    help="the seats whose station is switched on where a case of a run begins (default auto: "
                         "seat b when the capture is a run against exec:, pty: or sim:)")
@@ -228,6 +229,21 @@ def _run_url(path: str, cap) -> str | None:
     return None
 
 
+def _resolution(args, cap, url: str | None, char: float) -> float:
+    """The timing resolution to judge ``cap`` with: ``--resolution-ms``, else what the
+    capture says of how its times were taken, else (a capture written before captures said
+    it) from the run it names, else 0 (exact)."""
+    from ptpcert import capture as C
+
+    if args.resolution_ms is not None:
+        return args.resolution_ms / 1000.0
+    if cap.timing is not None:
+        return cap.timing.resolution
+    if url is not None:
+        return C.run_timing(url, char).resolution
+    return 0.0
+
+
 def cmd_analyze(args) -> int:
     from ptpcert import analysis as A
     from ptpcert import capture as C
@@ -250,12 +266,7 @@ def cmd_analyze(args) -> int:
     if args.case and restart and not any(m.text.lower().startswith("case ") for m in cap.marks):
         # one case of a run: it began at t = 0, with the stations switched on as the run did
         cap.marks.insert(0, C.Mark(0.0, f"case {args.case}"))
-    if args.resolution_ms is not None:
-        resolution = args.resolution_ms / 1000.0
-    elif url is not None and not url.startswith("sim:"):
-        resolution = max(setup.kit.char("a"), setup.kit.char("b")) + 0.002
-    else:
-        resolution = 0.0
+    resolution = _resolution(args, cap, url, max(setup.kit.char("a"), setup.kit.char("b")))
     notes = []
     ours = setup.proc.line(setup.params["b"])
     if cap.line is not None and str(cap.line) != str(ours):
@@ -269,7 +280,8 @@ def cmd_analyze(args) -> int:
               + (f"; seat b restarts at each case ({url})" if restart else ""), flush=True)
     an = A.analyze(cap, setup.kit, judge=judged, resolution=resolution, restart_at_cases=restart,
                    source=str(args.capture), listener=listener)
-    notes.append(f"timing resolution {resolution * 1000:.3f} ms")
+    notes.append(f"timing resolution {resolution * 1000:.3f} ms" + (
+        "" if args.resolution_ms is not None or cap.timing is None else f" (the capture's {cap.timing.describe()})"))
     result = A.to_results(an, profile=setup.profile_dict(an.line.judged, resolution), notes=notes)
     result.profile_path = f"seat a: {setup.paths['a']}; seat b: {setup.paths['b']}"
     return _finish(result, args, t0, setup.proc.report_view())
@@ -315,8 +327,9 @@ def cmd_monitor(args) -> int:
     seats = {"a": args.a, "b": args.b}
     listener = ConsoleListener(seats, quiet=args.quiet, every=True)
     line = A.LineAnalysis(setup.kit, judge=judged, resolution=resolution, listener=listener)
+    timing = C.Timing("monitor", resolution, line_b.char_time if line_b.baud_rate else None)
     meta = C.Capture([], seats, line_b, started, None,
-                     [f"ptpcert monitor, timing resolution {resolution * 1000:.3f} ms"])
+                     [f"ptpcert monitor, timing resolution {resolution * 1000:.3f} ms"], timing=timing)
     try:
         mon = Monitor(args.a, args.b, line_b, parmrk=args.parmrk)
     except MonitorError as exc:
@@ -333,7 +346,7 @@ def cmd_monitor(args) -> int:
     old_int = signal.signal(signal.SIGINT, stop)
     try:
         with open(path, "wb" if fmt == "pcap" else "w", **({} if fmt == "pcap" else {"encoding": "utf-8"})) as fp:
-            writer = C.PcapWriter(fp, started) if fmt == "pcap" else C.HexLogWriter(fp, meta)
+            writer = C.PcapWriter(fp, started, timing) if fmt == "pcap" else C.HexLogWriter(fp, meta)
             with priority.harness(args.priority, this_thread=False) as how:
                 end = mon.run(line, writer, stop=lambda: bool(interrupted), duration=args.duration,
                               resolution=resolution)
@@ -349,7 +362,7 @@ def cmd_monitor(args) -> int:
         signal.signal(signal.SIGINT, old_int)
         mon.close()
     line.close(end)
-    cap = C.Capture(list(line.chunks), seats, line_b, started, end, list(meta.notes), list(line.marks))
+    cap = C.Capture(list(line.chunks), seats, line_b, started, end, list(meta.notes), list(line.marks), timing)
     an = A.Analysis(line, cap, setup.kit, path)
     result = A.to_results(an, profile=setup.profile_dict(line.judged, resolution),
                           notes=[f"timing resolution {resolution * 1000:.3f} ms (timestamps taken when a read returned)"])
