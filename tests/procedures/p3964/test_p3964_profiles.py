@@ -146,3 +146,21 @@ def test_d09_tester_event_is_the_models():
     assert events[:1] == [Code.RELEASE_REFUSED]
     v = load_vector(ROOT / "vectors/p3964/d09-bcc-missing.toml")
     assert [sorted(g) for g in v.expected.tester_status.required] == [[int(Code.RELEASE_REFUSED)]]
+
+
+@settings(max_examples=10, deadline=None, database=None, suppress_health_check=list(HealthCheck))
+@given(st.sampled_from(["3964R", "3964"]), st.sampled_from(["low", "high"]), st.sampled_from([300, 600, 1200, 9600]),
+       st.integers(0, 3), st.integers(0, 3), st.sampled_from([1, 2, 255]), st.sampled_from([1, 2, 255]))
+def test_slow_lines_short_timers_and_many_attempts(proc, prio, baud, cdt_steps, adt_steps, setups, transmissions):
+    """Item 4: at a low baud rate with timers at their floor (Table 2-4) a BREAK of 20
+    characters outlasts 2*ADT + CDT (the harness must not call its own wait a late byte); the
+    stray characters after a gap over CDT are NAKed CDT after the last of them; a partner
+    window holds every attempt the profile allows; the receive counter case needs a
+    deferred job that resumes (setup attempts >= 2)."""
+    floor = min_timer_ms(baud)
+    prof = profile(procedure=proc, priority=prio, baud_rate=baud, character_delay_ms=floor + 10 * cdt_steps,
+                   acknowledgement_delay_ms=floor + 10 * adt_steps, setup_attempts=setups,
+                   transmission_attempts=transmissions)
+    results = run(prof, "SUITE.BREAK.*", "SUITE.TIMING.GAP-OVER-CDT-REFUSED", "SUITE.COUNTERS.*",
+                  "SUITE.RECEIVE.FROM-3964R-PARTNER", "*.D18.*")
+    assert not [p for p in problems(results) if "other reading" not in p]
