@@ -8,6 +8,7 @@ from __future__ import annotations
 import fnmatch
 from pathlib import Path
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -33,11 +34,13 @@ def _vectors():
     return _VECTORS
 
 
+BASE = {"procedure": "3964R", "send_trigger": "echo", "line_conditions": "parmrk", "status_from_stderr": True,
+        "priority": "low", "baud_rate": 9600, "character_delay_ms": 20, "acknowledgement_delay_ms": 200,
+        "setup_attempts": 6, "transmission_attempts": 6}
+
+
 def profile(**iut):
-    base = {"procedure": "3964R", "send_trigger": "echo", "line_conditions": "parmrk", "status_from_stderr": True,
-            "priority": "low", "baud_rate": 9600, "character_delay_ms": 20, "acknowledgement_delay_ms": 200,
-            "setup_attempts": 6, "transmission_attempts": 6}
-    raw = {**base, **iut}
+    raw = {**BASE, **iut}
     for key in ("character_delay_ms", "acknowledgement_delay_ms"):   # the baud rate's floor (Table 2-4)
         if key not in iut:
             raw[key] = max(raw[key], min_timer_ms(raw["baud_rate"]))
@@ -164,3 +167,20 @@ def test_slow_lines_short_timers_and_many_attempts(proc, prio, baud, cdt_steps, 
     results = run(prof, "SUITE.BREAK.*", "SUITE.TIMING.GAP-OVER-CDT-REFUSED", "SUITE.COUNTERS.*",
                   "SUITE.RECEIVE.FROM-3964R-PARTNER", "*.D18.*")
     assert not [p for p in problems(results) if "other reading" not in p]
+
+
+@pytest.mark.realtime
+def test_send_trigger_none_over_exec_ptpcert_iut(tmp_path):
+    """Item 2 over exec:: ``ptpcert iut --profile`` with send_trigger = "none" is an IUT that
+    receives and never echoes (an echo would fail every receive case: "the IUT sends 02")."""
+    import subprocess
+    import sys
+    prof = tmp_path / "none.toml"
+    prof.write_text("[iut]\n" + "".join(f"{k} = {v!r}\n".replace("'", '"').replace("True", "true")
+                                         for k, v in {**BASE, "send_trigger": "none", "priority": "high"}.items()))
+    iut = f"exec:{sys.executable} -m ptpcert.cli iut --profile {prof}"
+    out = subprocess.run([sys.executable, "-m", "ptpcert.cli", "run", "--iut", iut, "--profile", str(prof),
+                          "--select", "SUITE.RECEIVE.UNDOUBLE-*", "--select", "SUITE.RECEIVE.DLE-REPLY-TO-STX"],
+                         capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "overall PASS" in out.stdout
