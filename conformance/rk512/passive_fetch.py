@@ -15,18 +15,18 @@ def _fetch(c, typ: str, n: int):
         number = c.db if typ == "D" else c.dx
         needs = {"db" if typ == "D" else "dx": [number], "db_bytes": n}
         if c.pattern_known:
-            return tester_fetch(header("E", typ, number, 0, n // 2), pattern(typ, number, 0, n), pause="2*ADT"), \
+            return tester_fetch(header("E", typ, number, 0, n // 2), pattern(typ, number, 0, n), pause=c.pause), \
                 {**needs, "pattern": True}
         number = c.db_w if typ == "D" else c.dx_w
         needs = {"db" if typ == "D" else "dx": [number], "db_bytes": n}
         data = seq_data(n, 0x45)
         cmd = "A" if typ == "D" else "O"
         return tester_send(header(cmd, "D", number, 0, n // 2), data) + \
-            tester_fetch(header("E", typ, number, 0, n // 2), data, pause="2*ADT"), needs
+            tester_fetch(header("E", typ, number, 0, n // 2), data, pause=c.pause), needs
     if typ in "TZ":
-        return tester_fetch(header("E", typ, 0, 0, n // 2), pattern(typ, 0, 0, n), pause="2*ADT"), \
+        return tester_fetch(header("E", typ, 0, 0, n // 2), pattern(typ, 0, 0, n), pause=c.pause), \
             {"cell_area_cells": n // 2, "pattern": True}
-    return tester_fetch(header("E", typ, 0, 0, n), pattern(typ, 0, 0, n), pause="2*ADT"), \
+    return tester_fetch(header("E", typ, 0, 0, n), pattern(typ, 0, 0, n), pause=c.pause), \
         {"byte_area_bytes": n, "pattern": True}
 
 
@@ -71,6 +71,6 @@ def cases(c):
             [prime(header("E", "X", c.dx, 0, 3)),
              receive(resp(0, data=pattern("X", c.dx, 0, 6)), alternatives=[resp(0x14), resp(0x0C), resp(0x10)],
                      alt_grade="informational")],
-            iut=((), ["16#0606", "16#0604", "16#0607"]), needs={"dx": [c.dx], "pattern": True},
+            iut=((), ["16#0606", "16#0604", "16#0607"]), needs={"dx": [c.dx], "db_bytes": 6, "pattern": True},
             readings=["AMB-20"], provenance="[S][O]"))
     return out

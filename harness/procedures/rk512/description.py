@@ -20,7 +20,8 @@ A vector's ``extra`` table carries ``requests`` (the script's lines), ``results`
 RESULT/FETCHED lines expected, in order; alternatives separated by `` || ``, a FETCHED line
 ending in `` *`` accepts any data) and ``needs`` (what the IUT's memory must offer: ``db``,
 ``dx`` numbers, ``db_bytes``, ``byte_area_bytes``, ``cell_area_cells`` at least, ``pattern``
-for the pattern start contents).
+for the pattern start contents; ``setup_attempts`` at least; ``expressible``: the invalid
+request the case hands the IUT, which its interface must be able to express).
 """
 
 from __future__ import annotations
@@ -56,7 +57,11 @@ READING_NAMES = tuple(f"AMB-{i:02d}" for i in range(1, 38)) + tuple(f"N{i}" for 
 
 _LINE_FIELDS = tuple(f.name for f in fields(Params3964) if f.init and f.name != "procedure")
 _RK_FIELDS = ("link", "response_time_ms", "roles", "requests", "memory", "db_range", "dx_range", "db_bytes",
-              "byte_area_bytes", "cell_area_cells")
+              "byte_area_bytes", "cell_area_cells", "inexpressible_requests")
+#: the link's attempt counts a case may need at least (``needs``), and why
+_ATTEMPT_NEEDS = {"setup_attempts": "a crossing STX uses up the IUT's first setup attempt (Fig. 2-8 counts "
+                                    "its next STX as the 2nd, open point A21): whether it tries again after it "
+                                    "is open"}
 _EMPTY_SCRIPT = "requests-none.txt"
 RECEIVE = MacroStep(keys=frozenset({"after", "within", "optional", "absent_grade", "or", "or_grade", "since", "note"}),
                     max_data=codec.MAX_BLOCK, defaults={"within": "ADT"})
@@ -392,6 +397,12 @@ class Rk512Procedure(Procedure):
         for key in ("db_bytes", "byte_area_bytes", "cell_area_cells"):
             if key in needs and needs[key] > getattr(p, key):
                 return f"needs {key} >= {needs[key]}; the profile's [rk512] has {getattr(p, key)}"
+        for key, why in _ATTEMPT_NEEDS.items():
+            if key in needs and needs[key] > getattr(p, key):
+                return f"needs {key} >= {needs[key]} ({why}); the profile's [iut] has {getattr(p, key)}"
+        if "expressible" in needs and needs["expressible"] in p.inexpressible_requests:
+            return (f"needs a request with {needs['expressible']}; the profile's [rk512] inexpressible_requests "
+                    "says the IUT's request interface cannot express it")
         for key, rng in (("db", p.db_range), ("dx", p.dx_range)):
             for n in needs.get(key, []):
                 if not rng or not rng[0] <= n <= rng[1]:

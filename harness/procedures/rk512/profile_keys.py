@@ -10,7 +10,7 @@ from dataclasses import replace
 from ptpcert.procedures.p3964.link import LINK_SCHEMA
 from ptpcert.schema import Key
 
-from .model.params import LINKS, MEMORY_MODES, REQUEST_MODES, ROLES
+from .model.params import INVALID_REQUESTS, LINKS, MEMORY_MODES, REQUEST_MODES, ROLES
 
 _AREA = 65536
 
@@ -38,4 +38,9 @@ SCHEMA: tuple[Key, ...] = tuple(
         lo=1, hi=_AREA, unit="bytes"),
     Key("cell_area_cells", "rk512", "int", "the number of timers and of counters (2 bytes each)",
         default=256, lo=1, hi=_AREA // 2),
+    Key("inexpressible_requests", "rk512", "subset", "the invalid requests the IUT's request interface cannot "
+        "even express (a typed API that refuses them before they become requests): len-1025, len-0 (LEN over "
+        "1024, of 0), db-0, flag-bit-8, cpu-5, send-to-flags; their local-check cases are unsupported",
+        ref="§6.3.2 Tables 6-4 to 6-6; Table 8-1 class 05; Table 8-2 16#1E41", default=[],
+        choices=INVALID_REQUESTS, size=(0, len(INVALID_REQUESTS)), when={"requests": ("script",)}),
 )

@@ -19,6 +19,11 @@ LINKS = ("3964R", "3964")
 ROLES = ("passive", "active")
 REQUEST_MODES = ("script", "none")
 MEMORY_MODES = ("pattern", "unknown")
+#: the invalid requests of the local checks (§6.3.2 Tables 6-4 to 6-6; Table 8-1 class 05,
+#: Table 8-2 16#1E41) by name: a length over 1024 or of 0, DB 0, a coordination-flag bit over
+#: 7, a CPU over 4, a SEND to the flags. A typed request interface may be unable to express
+#: some of them (the profile's ``inexpressible_requests``).
+INVALID_REQUESTS = ("len-1025", "len-0", "db-0", "flag-bit-8", "cpu-5", "send-to-flags")
 _MAX_AREA = 65536
 _LINE_FIELDS = frozenset(f.name for f in fields(Params3964) if f.init)
 
@@ -69,7 +74,10 @@ class Rk512Params:
     * ``memory``: "pattern" (the start contents of :mod:`.memory`) or "unknown";
     * ``db_range``/``dx_range``: the DB and DX numbers that exist (inclusive; ``()``: no DX);
     * ``db_bytes``: the size of every DB/DX; ``byte_area_bytes``: the size of the M, E and
-      A areas; ``cell_area_cells``: the number of timers and of counters (2 bytes each).
+      A areas; ``cell_area_cells``: the number of timers and of counters (2 bytes each);
+    * ``inexpressible_requests``: the invalid requests (of :data:`INVALID_REQUESTS`) the
+      station's request interface cannot even express (a fact about its interface, not a
+      parameter of the manual).
     """
 
     link: str = "3964R"
@@ -83,6 +91,7 @@ class Rk512Params:
     db_bytes: int = 512
     byte_area_bytes: int = 256
     cell_area_cells: int = 256
+    inexpressible_requests: tuple[str, ...] = ()
     # Derived, filled in by __post_init__.
     t_res: float = field(init=False, repr=False, compare=False)
 
@@ -116,6 +125,11 @@ class Rk512Params:
             raise ParameterError("db_bytes", self.db_bytes, "an even number of bytes (whole data words)")
         _int("byte_area_bytes", self.byte_area_bytes, 1, _MAX_AREA)
         _int("cell_area_cells", self.cell_area_cells, 1, _MAX_AREA // 2)
+        bad = tuple(self.inexpressible_requests) if isinstance(self.inexpressible_requests, (list, tuple)) else None
+        if bad is None or len(set(bad)) != len(bad) or any(b not in INVALID_REQUESTS for b in bad):
+            raise ParameterError("inexpressible_requests", self.inexpressible_requests,
+                                 "a list of " + ", ".join(INVALID_REQUESTS) + " (each once)")
+        object.__setattr__(self, "inexpressible_requests", bad)
         ms = self.response_time_ms
         if ms is None:
             ms = default_response_time_ms(self.line.baud_rate)
@@ -172,6 +186,8 @@ class Rk512Params:
                 out[f.name] = list(v) if isinstance(v, tuple) else v
         if out["response_time_ms"] is None:
             del out["response_time_ms"]
+        if not out["inexpressible_requests"]:
+            del out["inexpressible_requests"]
         return out
 
     @classmethod
