@@ -53,7 +53,7 @@ from ptpcert.procedures.ascii.model.params import (
     SEND_VARIANTS,
     AsciiParams,
 )
-from ptpcert.procedures.ascii.model.readings import READINGS
+from ptpcert.procedures.ascii.model.readings import READINGS, TESTER_READINGS, frame_reaches_xoff
 
 if TYPE_CHECKING:   # the station and its host are imported where one is built (start-up)
     from ptpcert.procedures.ascii.model.app import AsciiHost
@@ -257,6 +257,14 @@ class AsciiProcedure(Procedure):
     def edge_timers(self, params: AsciiParams) -> tuple[float, ...]:
         return (params.cdt,)
 
+    def transmit_lead(self, params: AsciiParams) -> float:
+        # §2.2.4 'automatic use of the V.24 signals' (Fig. 2-24): each send job sets RTS ON and
+        # starts sending only when the data output waiting time is over; the job before it
+        # ended only once RTS went OFF the time to RTS OFF after its last character
+        if params.flow_control != "auto_v24":
+            return 0.0
+        return params.data_output_wait + params.rts_off_delay
+
     def startup_bytes(self, params: AsciiParams) -> bytes:
         # §2.2.4 "data flow control": XON once parameterised for XON/XOFF
         return bytes((params.xon,)) if params.flow_control == "xon_xoff" else b""
@@ -277,8 +285,12 @@ class AsciiProcedure(Procedure):
         return base.with_(cdt_ms=cdt)
 
     def interleaved(self, params: AsciiParams) -> bytes:
-        # reading Q15: an XON may also follow every read, not only an XOFF
-        return bytes((params.xon,)) if params.flow_control == "xon_xoff" else b""
+        # reading Q15: an XON may also follow every read, not only an XOFF; and where one
+        # frame can reach the XOFF threshold (a fixed length near 1024 bytes), the IUT holds
+        # the tester in the middle of it (reading Q14), wherever a case sends one
+        if params.flow_control != "xon_xoff":
+            return b""
+        return bytes((params.xon, params.xoff)) if frame_reaches_xoff(params) else bytes((params.xon,))
 
     def unsupported_reason(self, vector, profile, capabilities: frozenset[str], factory) -> str | None:
         if MODEM_LINES in vector.needs and MODEM_LINES not in capabilities:
@@ -295,7 +307,9 @@ class AsciiProcedure(Procedure):
                 raise ProcedureError("mutant", f"unknown broken variant {mutant!r}; known: {', '.join(self.mutants())}")
             return m.make(params, name=name)
         from ptpcert.procedures.ascii.model.station import AsciiStation
-        return AsciiStation(params, readings if readings is not None else READINGS, name=name, explain=explain)
+        if readings is None:
+            readings = TESTER_READINGS if name == "tester" else READINGS
+        return AsciiStation(params, readings, name=name, explain=explain)
 
     def host(self, station: AsciiStation, *, app: str = "echo", vector=None, read_delay: float = 0.0) -> AsciiHost:
         from ptpcert.procedures.ascii.model.app import AsciiHost  # loaded where a station runs, not at start-up
@@ -317,7 +331,8 @@ class AsciiProcedure(Procedure):
         return host.station.idle
 
     def echo_time_limit(self, params: AsciiParams, payloads: list[bytes]) -> float:
-        per = sum((len(self.frame(p, params)) + 4) * params.char_time + 3 * params.cdt for p in payloads)
+        per = sum((len(self.frame(p, params)) + 4) * params.char_time + 3 * params.cdt + self.transmit_lead(params)
+                  for p in payloads)
         return 5.0 + 2 * per
 
     def frame(self, payload: bytes, params: AsciiParams) -> bytes:
