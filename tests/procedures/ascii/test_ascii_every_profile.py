@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from fnmatch import fnmatch
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -149,3 +150,14 @@ def test_len_1025_accepts_either_code_of_the_manual():
             assert spec.judge([lookup(code).code]) == [], (v.id, code)
         assert spec.judge([lookup("16#080A").code]) != []
         assert spec.judge([]) != []
+
+
+# ---------------------------------------------------------------- a slow application at a low rate
+@pytest.mark.parametrize("baud", [300, 1200, 2400, 9600])
+@pytest.mark.parametrize("crit", ["cdt", "end_chars"])
+def test_buffer_cases_fill_the_buffer_before_the_slow_application_reads(baud, crit):
+    """The buffer cases fill the receive buffer while a slow application waits 5 s before its
+    first read: at 300 bit/s 1100 bytes take 40 s, so the golden vector timed at 9600 bit/s
+    binds its baud rate and the suite's cases are built only where the filling fits."""
+    prof = profile({"end_criterion": crit}, baud_rate=baud, data_bits=7, parity="none")
+    assert not failures(prof, "*BUF*", "*FC*")
