@@ -296,6 +296,15 @@ class AsciiProcedure(Procedure):
         if MODEM_LINES in vector.needs and MODEM_LINES not in capabilities:
             return ("needs the RS 232C modem lines (RTS, CTS, DTR, DSR), which no transport of this "
                     "harness carries")
+        params = getattr(profile, "params", None)
+        if isinstance(params, AsciiParams) and params.flow_control == "xon_xoff" \
+                and vector.params.flow_control != "xon_xoff":
+            # a vector written without XON/XOFF whose data hold a code the profile makes XON
+            # or XOFF: those bytes are flow control here, not data (§2.2.4 'code transparency')
+            held = sorted({params.xon, params.xoff} & _data_codes(vector))
+            if held:
+                return (f"its data contain {', '.join(f'{c:02X}' for c in held)}, which the profile makes XON/XOFF "
+                        f"(xon = 0x{params.xon:02X}, xoff = 0x{params.xoff:02X}): flow control, not data")
         return None
 
     # -- models ---------------------------------------------------------------------------
@@ -468,6 +477,20 @@ class AsciiProcedure(Procedure):
         """XON/XOFF and the end characters named as each case's settings give them."""
         from ptpcert.procedures.ascii.tokens import report_view
         return report_view(self.groups)
+
+
+def _data_codes(vector) -> set[int]:
+    """Every byte a vector's tester sends or expects as data."""
+    out: set[int] = set()
+    for step in vector.steps:
+        if step.kind in ("send", "send_error", "expect"):
+            out.update(step.data)
+            for alt in step.alternatives:
+                out.update(alt)
+    exp = vector.expected
+    for block in exp.delivered + exp.sent + exp.echo_after:
+        out.update(block)
+    return out
 
 
 __all__ = ["AsciiProcedure", "GROUPS", "echo_frames", "parse_codes", "parse_jobs", "BAUD_RATES"]

@@ -161,3 +161,19 @@ def test_buffer_cases_fill_the_buffer_before_the_slow_application_reads(baud, cr
     binds its baud rate and the suite's cases are built only where the filling fits."""
     prof = profile({"end_criterion": crit}, baud_rate=baud, data_bits=7, parity="none")
     assert not failures(prof, "*BUF*", "*FC*")
+
+
+# ---------------------------------------------------------------- XON/XOFF codes among a vector's data
+@SETTINGS
+@given(codes=st.lists(st.integers(0x20, 0x7E), min_size=2, max_size=2, unique=True),
+       crit=st.sampled_from(["cdt", "end_chars", "fixed_length"]))
+def test_a_vector_whose_data_hold_the_profiles_xon_or_xoff_is_unsupported(codes, crit):
+    """A golden vector written without flow control sends 41 42; with xoff = 0x41 those bytes
+    are flow control, not data (§2.2.4 'code transparency'): such a vector is unsupported with
+    that reason, never failed; the others still run."""
+    xon, xoff = codes
+    keys = {"end_criterion": crit, "flow_control": "xon_xoff", "xon": xon, "xoff": xoff}
+    if crit == "end_chars":
+        keys["end_chars"] = [next(c for c in (0x03, 0x0D, 0x04) if c not in codes)]
+    prof = profile(keys)
+    assert not failures(prof, "ASCII.*")
