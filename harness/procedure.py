@@ -168,6 +168,13 @@ class Procedure:
         shortest of them may be judged late; the line is quiet after the longest."""
         raise NotImplementedError
 
+    def transmit_lead(self, params: Any) -> float:
+        """How much later than its rules' moment the IUT may begin a transmission because its
+        parameters make it prepare the line first (e.g. a modem handshake before each
+        frame): the late side of every window for the IUT's bytes, and the quiet that shows
+        it has nothing more to send, widen by it. Seconds; 0 for most procedures."""
+        return 0.0
+
     def startup_bytes(self, params: Any) -> bytes:
         """What a freshly started station sends on its own (3964's NAK, ASCII's XON)."""
         return b""

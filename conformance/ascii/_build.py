@@ -52,8 +52,8 @@ def silence(duration: str, note: str = "") -> Step:
     return Step("silence", duration=Expr(duration), note=note)
 
 
-def wait(duration: str, note: str = "") -> Step:
-    return Step("wait", duration=Expr(duration), note=note)
+def wait(duration: str, note: str = "", mark: bool = False) -> Step:
+    return Step("wait", duration=Expr(duration), note=note, mark=mark)
 
 
 # ------------------------------------------------------------------ payloads
@@ -168,6 +168,18 @@ def hold(p: AsciiParams) -> str:
     """How long the tester holds the IUT with XOFF in the cases that resume it: four CDTs,
     or half the wait time for XON where that is shorter."""
     return "4*CDT" if 4 * p.cdt < 0.5 * p.xon_wait else "0.5*XONWAIT"
+
+
+def xon_in_time(p: AsciiParams, at: float = 0.0) -> bool:
+    """The tester can lift an XOFF well inside the wait time for XON (Table 2-9): seeing that
+    the IUT has stopped (the characters under way and a CDT of quiet), then ``hold(p)`` (or,
+    with ``at`` > 0, ``at`` of the wait time), then the XON itself take at most three
+    quarters of it (a quarter when ``at`` is given; the rest is the margin)."""
+    seen = p.cdt + 4 * p.char_time
+    if at:
+        return seen <= (0.9 - at) * p.xon_wait
+    held = 4 * p.cdt if 4 * p.cdt < 0.5 * p.xon_wait else 0.5 * p.xon_wait
+    return seen + held <= 0.75 * p.xon_wait
 
 
 #: the longest the tester may take to fill the buffer of an IUT whose application reads late

@@ -28,6 +28,8 @@ from ._build import (
     send,
     sending_time,
     silence,
+    wait,
+    xon_in_time,
 )
 
 REF = "§2.2.4 'data flow control / handshaking'; Table 2-9"
@@ -66,8 +68,10 @@ def _sender_side(p, xon, xoff):
         return []
     first = "2*CDT + 10*CHAR" if p.end_criterion == "cdt" else "CDT + 10*CHAR"
     out = []
-    for k, name, where in ((1, "AFTER-FIRST", "after the first character"), (len(w) // 2, "MIDDLE", "in the middle"),
-                           (len(w) - 20, "NEAR-END", "near the end")):
+    # an XOFF the tester cannot lift in time would end the job with 16#0708: no such case
+    spots = ((1, "AFTER-FIRST", "after the first character"), (len(w) // 2, "MIDDLE", "in the middle"),
+             (len(w) - 20, "NEAR-END", "near the end")) if xon_in_time(p) else ()
+    for k, name, where in spots:
         out.append(receive_case(
             p, f"FC.XOFF-{name}", f"XOFF {where} of a frame stops it; XON resumes it", REF,
             "On XOFF the driver interrupts its transmission; on XON before the wait time is over it goes on, with "
@@ -80,14 +84,15 @@ def _sender_side(p, xon, xoff):
              send(xon, note="XON"),
              expect(w[k:], within="CDT + 10*CHAR", resume=True, note="the rest of the echo")],
             [f], group="flow-control", role="both", echo=False, readings=["Q15"]))
-    out.append(receive_case(
+    out += [] if not xon_in_time(p, at=0.7) else [receive_case(
         p, "FC.XON-WITHIN-WAIT", "An XON at 0.7 of the wait time resumes the frame", REF,
         "An XON that comes before the wait time for XON is over resumes the interrupted transmission; no 16#0708.",
         [send(f), expect(w[:10], within=first), send(xoff, note="XOFF"),
          expect(w[10:], within="16*CHAR", partial=True), silence("0.7*XONWAIT", note="no XON yet"),
          send(xon, note="XON at 0.7 of the wait time"), expect(w[10:], within="CDT + 10*CHAR", resume=True)],
-        [f], group="flow-control", role="both", echo=False, timing_sensitive=True))
-    out.append(receive_case(
+        [f], group="flow-control", role="both", echo=False, timing_sensitive=True)]
+    # the tester sees that the IUT has stopped (a CDT of quiet) well before the wait time is over
+    out += [] if not xon_in_time(p, at=0.4) else [receive_case(
         p, "FC.XON-WAIT-EXPIRES", "No XON within the wait time: the job is aborted with 16#0708",
         REF + "; Table 8-1 (07)08H",
         "If no XON comes within the wait time after XOFF the send job is aborted with 16#0708; a late XON does "
@@ -95,7 +100,7 @@ def _sender_side(p, xon, xoff):
         [send(f), expect(w[:10], within=first), send(xoff, note="XOFF"),
          expect(w[10:], within="16*CHAR", partial=True), silence("1.3*XONWAIT", note="no XON: the wait time runs out"),
          send(xon, note="a late XON"), silence("5*CDT", note="the job is gone")],
-        [f], group="flow-control", role="both", echo=False, status=["16#0708"]))
+        [f], group="flow-control", role="both", echo=False, status=["16#0708"])]
     short = frame_of(p, 4, 3)
     if 4 * p.cdt + 0.2 < p.xon_wait:
         early = "2*CDT + 10*CHAR" if p.end_criterion == "cdt" else "CDT + 10*CHAR"
@@ -144,18 +149,21 @@ def _frames_to_fill(p):
     return size, k, gap
 
 
-def _sends(frames, gap: str, watch: int):
+def _sends(frames, gap: str, watch: int, settle: str = ""):
     """Steps sending ``frames`` (``gap`` before each but the first), with a mark before the
-    last ``watch`` of them, and the window from that mark to the end of the last (four
-    characters more)."""
+    last ``watch`` of them (at the start where there are no more), and the window from that
+    mark to the end of the last (four characters more, and ``settle``: what completes the
+    last frame after its last character, the CDT under the CDT criterion)."""
     steps = [send(fr, at=gap if i else "0") for i, fr in enumerate(frames)]
     split = max(0, len(frames) - watch)
     if split:
         steps[split - 1] = replace(steps[split - 1], mark=True)
+    else:
+        steps.insert(0, wait("0ms", note="the first frame starts here", mark=True))
     tail = frames[split:]
     chars = sum(len(fr) for fr in tail) + 4
     gaps = len(tail) - (0 if split else 1)
-    window = f"{chars}*CHAR" + (f" + {gaps}*{gap}" if gap != "0" and gaps else "")
+    window = f"{chars}*CHAR" + (f" + {gaps}*{gap}" if gap != "0" and gaps else "") + (f" + {settle}" if settle else "")
     return steps, window
 
 
@@ -167,7 +175,7 @@ def _receiver_side(p, xon, xoff):
     gap = OVER if p.end_criterion == "cdt" else "0"
     frames = [frame_of(p, size, i) for i in range(n)]
     if n * size <= FILL - 100 and sending_time(p, frames, 1.4 if gap != "0" else 0.0) <= FILL_TIME:
-        steps, window = _sends(frames, gap, watch=2)
+        steps, window = _sends(frames, gap, watch=2, settle="CDT" if p.end_criterion == "cdt" else "")
         steps += [expect(xoff, within=window, since="mark", note="XOFF at the last frame (reading Q14: or the one before)"),
                   expect(xon + send_bytes(frames[0], p), within=SLOW, alternatives=[send_bytes(frames[0], p) + xon],
                          alt_grade="informational",
@@ -185,7 +193,10 @@ def _receiver_side(p, xon, xoff):
         size, k, gap = fill
         frames = [frame_of(p, size, i) for i in range(k)]
         steps = [send(fr, at=gap if i else "0", note=f"frame {i + 1} of {size} bytes") for i, fr in enumerate(frames)]
-        steps[-2] = replace(steps[-2], mark=True)
+        if k > 1:
+            steps[-2] = replace(steps[-2], mark=True)
+        else:  # one frame reaches the threshold: the window opens where it starts
+            steps.insert(0, wait("0ms", note="the frame starts here", mark=True))
         before = (k - 1) * size
         lo = max(0, FILL - before - XOFF_MARGIN)
         pre = f"{gap} + " if gap != "0" else ""

@@ -87,13 +87,16 @@ def cases(p):
         out.append(receive_case(p, "TX.LEN-1", "A frame of one byte", "Table 6-2 LEN 1..1024; " + REF,
                                 "The shortest job, LEN 1, is sent.", [send(one)], [one], group="send", role="both"))
     ok = frame_of(p, 2, 9)
-    for n, label in ((0, "0"), (1025, "1025")):
+    # LEN 1025 fits two codes of the manual: 16#1E41 (Table 8-2, byte count in LEN outside
+    # 1..1024) and 16#0517 (Table 8-1, transmission length over 1 KB): either is accepted
+    for n, label, codes, ref in ((0, "0", "16#1E41", ""), (1025, "1025", "16#1E41|16#0517", "; Table 8-1 (05)17H")):
         out.append(case(
-            p, f"TX.LEN-{label}-REFUSED", f"A send job of LEN {label} is refused", "Table 6-2 LEN; Table 8-2 (1E)41H",
-            "LEN must be 1..1024: a job outside is refused with 16#1E41, nothing of it is sent, and the next job "
-            "goes out.", "send", "sender",
+            p, f"TX.LEN-{label}-REFUSED", f"A send job of LEN {label} is refused",
+            "Table 6-2 LEN; Table 8-2 (1E)41H" + ref,
+            f"LEN must be 1..1024: a job outside is refused with {codes.replace('|', ' or ')}, nothing of it is "
+            "sent, and the next job goes out.", "send", "sender",
             [expect(send_bytes(ok, p), after="-1*STARTUP", within="STARTUP", note="the next job"), silence("3*CDT")],
-            status=["16#1E41"], requires=(), setup=_job([data(p, n, 3), ok])))
+            status=[codes], requires=(), setup=_job([data(p, n, 3), ok])))
     return out
 
 

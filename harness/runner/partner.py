@@ -62,7 +62,7 @@ class PartnerPlay(CaseLine):
         # quiet for the longest timer, with the lateness a real-time IUT is allowed
         # (the IUT's timers and the partner's: they may differ, e.g. an ASCII partner's CDT)
         quiet = (max(proc.edge_timers(params) + proc.edge_timers(self.p)) + 4 * proc.char_time(params)
-                 + self.tol.late(0))
+                 + self.tol.late(0) + self.lead)
         got: list[bytes] = []
 
         def on_event(e) -> None:

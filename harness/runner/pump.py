@@ -54,7 +54,9 @@ class CaseLine(MachineWatch):
         edges = proc.edge_timers(params)
         #: a late stimulus matters only near the IUT's shortest timer; the line is quiet
         #: after the longest
-        self.longest = max(edges)
+        #: how late the IUT may begin a transmission besides (Procedure.transmit_lead)
+        self.lead = proc.transmit_lead(params)
+        self.longest = max(edges) + self.lead
         super().__init__(tr, min(edges))
         self.t0 = tr.now()
         #: what the next step's times count from (the end of the last thing on the line)

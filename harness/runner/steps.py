@@ -204,7 +204,7 @@ class CaseRun(PartnerPlay):
             self.ref = self.mark_time
         lo_nom, hi_nom = self.ev(step.after), self.ev(step.within)
         lo = self.ref + lo_nom - self.tol.early - self.tol.early_rel * max(lo_nom, 0.0)
-        hi = self.ref + hi_nom + self.tol.late(hi_nom)
+        hi = self.ref + hi_nom + self.tol.late(hi_nom) + self.lead
         if self.tol.iut_timer and self._ends_on_iut_timer(step):
             hi += self.tol.iut_timer
         what = brief_hex(step.data)

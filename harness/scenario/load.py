@@ -23,7 +23,7 @@ from ..registry import by_name
 from ..rules import for_procedure
 from .expr import BASE_TIME_NAMES, Expr, ExprError, is_duration, names_in
 from .hexnotation import parse_vector_hex
-from .steps import DATA_KINDS, GRADES, SINCE, STEP_KEYS, STEP_KINDS, Step
+from .steps import DATA_KINDS, GRADES, SINCE, STEP_KEYS, STEP_KINDS, Step, unmarked_since
 from .vector import BASE_REQUIREMENTS, IUT_ROLES, STARTS, Expected, StatusSpec, Vector, timer_env
 
 
@@ -132,6 +132,9 @@ def vector_from_dict(raw: dict[str, Any], source: str = "<vector>") -> Vector:
     extra = raw.get("extra", {})
     if not isinstance(extra, dict):
         raise err("extra", "must be a table")
+    unmarked = unmarked_since(steps)
+    if unmarked is not None:
+        raise err(f"steps[{unmarked}].since", "\"mark\" but no step before it sets mark = true")
     v = Vector(
         id=raw["id"], title=raw["title"].strip(), reference=raw["reference"].strip(),
         rule=raw["rule"].strip(), group=raw["group"], iut_role=raw["iut_role"], params=params,

@@ -135,3 +135,15 @@ class Step:
         if self.note:
             d["note"] = self.note
         return d
+
+
+def unmarked_since(steps) -> int | None:
+    """The index of the first step that measures ``since = "mark"`` although no step before
+    it sets ``mark = true`` (its window would be anchored at the start of the case); None
+    when every such step has its mark. A step's own mark counts only for the steps after it."""
+    marked = False
+    for i, step in enumerate(steps):
+        if step.since == "mark" and not marked:
+            return i
+        marked = marked or step.mark
+    return None

@@ -20,7 +20,7 @@ from typing import Any, Iterable
 
 from ..registry import by_id
 from .hexnotation import vector_hex
-from .steps import Step
+from .steps import Step, unmarked_since
 
 IUT_ROLES = ("receiver", "sender", "both", "idle")
 STARTS = ("idle", "power-on")
@@ -117,6 +117,12 @@ class Vector:
     extra: dict[str, Any] = field(default_factory=dict)
     #: ids of the manual's rules the vector checks (the procedure's catalogue, ptpcert.rules)
     rules: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        i = unmarked_since(self.steps)
+        if i is not None:
+            raise ValueError(f"case {self.id}: steps[{i}] ({self.steps[i].kind}) measures since = \"mark\" but no "
+                             "step before it sets mark = true")
 
     @property
     def proc(self):

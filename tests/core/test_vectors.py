@@ -2,13 +2,16 @@
 and the coverage of the wire-observable STATUS codes (Table 8-1)."""
 
 
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from ptpcert.check import check_vector
-from ptpcert.scenario import (Expr, ExprError, VectorError, dump_vector, load_dir, load_vector, load_vector_sets,
-                              parse_vector_hex, vector_from_dict, vector_hex)
+from ptpcert.scenario import (SINCE, ZERO, Expr, ExprError, Step, VectorError, dump_vector, load_dir, load_vector,
+                              load_vector_sets, parse_vector_hex, vector_from_dict, vector_hex)
 
 ROOT = Path(__file__).resolve().parents[2]
 VECTORS = load_vector_sets()
@@ -106,11 +109,37 @@ def broken(**changes):
     (dict(expected={"iut_status": ["16#0705"]}), "expected.iut_status[0]", "not in the CP 341 catalogue"),
     (dict(expected={"delivered": "31"}), "expected.delivered", "list"),
     (dict(colour="red"), "colour", "unknown key"),
+    (dict(steps=[{"send": "02"}, {"expect": "10", "within": "ADT", "since": "mark"}]), "steps[1].since", "no step before"),
+    (dict(steps=[{"expect": "10", "within": "ADT", "since": "mark", "mark": True}]), "steps[0].since", "sets mark"),
 ])
 def test_broken_vectors_name_path_field_and_problem(changes, field, fragment):
     e = broken(**changes)
     assert e.path == "vectors/x.toml" and e.field == field
     assert fragment in str(e) and str(e).startswith("vectors/x.toml: ")
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from(("send", "wait", "expect")), st.booleans(),
+                          st.sampled_from(SINCE)), min_size=1, max_size=8))
+def test_a_window_since_the_mark_needs_a_mark_before_it(shape):
+    """A step measuring since = "mark" with no step before it marking (its own mark counts
+    only after it) is refused when the vector is built, in code and from TOML, naming the
+    case and the step; every other sequence of steps builds."""
+    steps = tuple(Step(kind, b"\x10" if kind != "wait" else b"", duration=Expr("1ms") if kind == "wait" else ZERO,
+                       within=Expr("ADT") if kind == "expect" else ZERO, mark=mark,
+                       since=since if kind == "expect" else "previous")
+                  for kind, mark, since in shape)
+    first_mark = next((i for i, s in enumerate(steps) if s.mark), len(steps))
+    bad = next((i for i, s in enumerate(steps) if s.since == "mark" and i <= first_mark), None)
+    base = vector_from_dict(BASE, "vectors/x.toml")
+    if bad is None:
+        assert replace(base, steps=steps).steps == steps
+        return
+    with pytest.raises(ValueError, match=rf"case {base.id}: steps\[{bad}\] \(expect\) measures since = \"mark\""):
+        replace(base, steps=steps)
+    with pytest.raises(VectorError) as e:
+        vector_from_dict({**BASE, "steps": [s.to_toml() for s in steps]}, "vectors/x.toml")
+    assert e.value.field == f"steps[{bad}].since"
 
 
 def test_broken_file_reports_its_path(tmp_path):

@@ -53,7 +53,7 @@ from ptpcert.procedures.ascii.model.params import (
     SEND_VARIANTS,
     AsciiParams,
 )
-from ptpcert.procedures.ascii.model.readings import READINGS
+from ptpcert.procedures.ascii.model.readings import READINGS, TESTER_READINGS, frame_reaches_xoff
 
 if TYPE_CHECKING:   # the station and its host are imported where one is built (start-up)
     from ptpcert.procedures.ascii.model.app import AsciiHost
@@ -257,6 +257,14 @@ class AsciiProcedure(Procedure):
     def edge_timers(self, params: AsciiParams) -> tuple[float, ...]:
         return (params.cdt,)
 
+    def transmit_lead(self, params: AsciiParams) -> float:
+        # §2.2.4 'automatic use of the V.24 signals' (Fig. 2-24): each send job sets RTS ON and
+        # starts sending only when the data output waiting time is over; the job before it
+        # ended only once RTS went OFF the time to RTS OFF after its last character
+        if params.flow_control != "auto_v24":
+            return 0.0
+        return params.data_output_wait + params.rts_off_delay
+
     def startup_bytes(self, params: AsciiParams) -> bytes:
         # §2.2.4 "data flow control": XON once parameterised for XON/XOFF
         return bytes((params.xon,)) if params.flow_control == "xon_xoff" else b""
@@ -277,13 +285,26 @@ class AsciiProcedure(Procedure):
         return base.with_(cdt_ms=cdt)
 
     def interleaved(self, params: AsciiParams) -> bytes:
-        # reading Q15: an XON may also follow every read, not only an XOFF
-        return bytes((params.xon,)) if params.flow_control == "xon_xoff" else b""
+        # reading Q15: an XON may also follow every read, not only an XOFF; and where one
+        # frame can reach the XOFF threshold (a fixed length near 1024 bytes), the IUT holds
+        # the tester in the middle of it (reading Q14), wherever a case sends one
+        if params.flow_control != "xon_xoff":
+            return b""
+        return bytes((params.xon, params.xoff)) if frame_reaches_xoff(params) else bytes((params.xon,))
 
     def unsupported_reason(self, vector, profile, capabilities: frozenset[str], factory) -> str | None:
         if MODEM_LINES in vector.needs and MODEM_LINES not in capabilities:
             return ("needs the RS 232C modem lines (RTS, CTS, DTR, DSR), which no transport of this "
                     "harness carries")
+        params = getattr(profile, "params", None)
+        if isinstance(params, AsciiParams) and params.flow_control == "xon_xoff" \
+                and vector.params.flow_control != "xon_xoff":
+            # a vector written without XON/XOFF whose data hold a code the profile makes XON
+            # or XOFF: those bytes are flow control here, not data (§2.2.4 'code transparency')
+            held = sorted({params.xon, params.xoff} & _data_codes(vector))
+            if held:
+                return (f"its data contain {', '.join(f'{c:02X}' for c in held)}, which the profile makes XON/XOFF "
+                        f"(xon = 0x{params.xon:02X}, xoff = 0x{params.xoff:02X}): flow control, not data")
         return None
 
     # -- models ---------------------------------------------------------------------------
@@ -295,7 +316,9 @@ class AsciiProcedure(Procedure):
                 raise ProcedureError("mutant", f"unknown broken variant {mutant!r}; known: {', '.join(self.mutants())}")
             return m.make(params, name=name)
         from ptpcert.procedures.ascii.model.station import AsciiStation
-        return AsciiStation(params, readings if readings is not None else READINGS, name=name, explain=explain)
+        if readings is None:
+            readings = TESTER_READINGS if name == "tester" else READINGS
+        return AsciiStation(params, readings, name=name, explain=explain)
 
     def host(self, station: AsciiStation, *, app: str = "echo", vector=None, read_delay: float = 0.0) -> AsciiHost:
         from ptpcert.procedures.ascii.model.app import AsciiHost  # loaded where a station runs, not at start-up
@@ -317,7 +340,8 @@ class AsciiProcedure(Procedure):
         return host.station.idle
 
     def echo_time_limit(self, params: AsciiParams, payloads: list[bytes]) -> float:
-        per = sum((len(self.frame(p, params)) + 4) * params.char_time + 3 * params.cdt for p in payloads)
+        per = sum((len(self.frame(p, params)) + 4) * params.char_time + 3 * params.cdt + self.transmit_lead(params)
+                  for p in payloads)
         return 5.0 + 2 * per
 
     def frame(self, payload: bytes, params: AsciiParams) -> bytes:
@@ -453,6 +477,20 @@ class AsciiProcedure(Procedure):
         """XON/XOFF and the end characters named as each case's settings give them."""
         from ptpcert.procedures.ascii.tokens import report_view
         return report_view(self.groups)
+
+
+def _data_codes(vector) -> set[int]:
+    """Every byte a vector's tester sends or expects as data."""
+    out: set[int] = set()
+    for step in vector.steps:
+        if step.kind in ("send", "send_error", "expect"):
+            out.update(step.data)
+            for alt in step.alternatives:
+                out.update(alt)
+    exp = vector.expected
+    for block in exp.delivered + exp.sent + exp.echo_after:
+        out.update(block)
+    return out
 
 
 __all__ = ["AsciiProcedure", "GROUPS", "echo_frames", "parse_codes", "parse_jobs", "BAUD_RATES"]

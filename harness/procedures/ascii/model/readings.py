@@ -21,7 +21,7 @@ at RTS ON, Fig. 2-24).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from ptpcert.model.codes import Code
 
@@ -153,3 +153,17 @@ class AsciiReadings:
 
 
 READINGS = AsciiReadings()
+
+#: the readings of the station in the tester's seat, where the harness plays a conforming
+#: partner: its application reads each frame at once and it has room for any frame the IUT
+#: sends, so it never holds the IUT on its own (with a fixed length near 1024 bytes a
+#: receiver at the Q14 threshold would stop the frame it can only read once complete); a
+#: case that wants the IUT held sends XOFF itself
+TESTER_READINGS = replace(READINGS, q14_xoff_fill_bytes=1024 + 1)
+
+
+def frame_reaches_xoff(params) -> bool:
+    """One frame of the profile's fixed length reaches the fill at which a receiver sends
+    XOFF (Q14: 50 bytes before the 1024-byte buffer overflows; the exact byte is open, so
+    from 50 bytes earlier)."""
+    return params.end_criterion == "fixed_length" and params.fixed_length > READINGS.q14_xoff_fill_bytes - 50
