@@ -124,7 +124,7 @@ def codes(*items: str) -> tuple[frozenset[int], ...]:
 def case(p: AsciiParams, id: str, title: str, reference: str, rule: str, group: str, role: str,
          steps: list[Step], *, status=(), optional=(), soft=(), delivered=(), echo_after=(),
          requires=("echo",), readings=(), start: str = "idle", notes: str = "", setup=None,
-         timing_sensitive: bool = False) -> Vector:
+         timing_sensitive: bool = False, not_buildable: str = "") -> Vector:
     """A case of the suite: ``status`` must be raised (each an alternative "A|B"),
     ``optional`` may be, ``soft`` is what the model's reading of an open point raises (its
     absence grades the case informational)."""
@@ -136,7 +136,7 @@ def case(p: AsciiParams, id: str, title: str, reference: str, rule: str, group: 
                           tuple(h(x) for x in delivered), (), tuple(h(x) for x in echo_after)),
         start=start, requires=frozenset(requires), readings=tuple(readings), provenance="",
         notes=notes, source=f"conformance/ascii/{group}", binds=(), procedure="ascii", setup=setup,
-        timing_sensitive=timing_sensitive,
+        timing_sensitive=timing_sensitive, not_buildable=not_buildable,
     )
 
 
@@ -149,6 +149,12 @@ def receive_case(p: AsciiParams, id: str, title: str, reference: str, rule: str,
     group = kw.pop("group", "end-criterion")
     return case(p, id, title, reference, rule, group, kw.pop("role", "receiver"), steps,
                 delivered=frames, echo_after=echoes(p, frames) if echo else (), **kw)
+
+
+def unbuilt_case(p: AsciiParams, id: str, title: str, reference: str, rule: str, group: str, why: str,
+                 role: str = "receiver") -> Vector:
+    """A case the profile leaves no room for: listed as unsupported with ``why``."""
+    return case(p, id, title, reference, rule, group, role, [], not_buildable=why)
 
 
 def modem_case(p: AsciiParams, id: str, title: str, reference: str, rule: str, readings=()) -> Vector:

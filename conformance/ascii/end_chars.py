@@ -20,6 +20,7 @@ from ._build import (
     receive_case,
     send,
     send_error,
+    unbuilt_case,
     with_echo,
 )
 
@@ -133,10 +134,13 @@ def _back_to_back(p, frames):
     """Frames back to back, no more than the receive buffer holds: an application that has
     not yet read the first frame when the last arrives must not make a correct driver discard
     it (a full buffer refuses it with 16#080A, or overwrites the oldest). With a buffer of one
-    frame there is nothing back to back to show beyond EC.END-INCLUDED: no case."""
+    frame there is nothing back to back to show beyond EC.END-INCLUDED: unsupported."""
     frames = frames[:min(len(frames), p.buffer_frames)]
     if len(frames) < 2:
-        return []
+        return [unbuilt_case(p, "EC.BACK-TO-BACK", "Frames back to back: each end character completes its frame",
+                             REF + "; Table 2-10", "Each end character completes its frame at once.", "end-criterion",
+                             "a receive buffer of one frame (buffer_frames = 1) holds no two frames back to back; "
+                             "EC.END-INCLUDED checks the end character")]
     return [receive_case(p, "EC.BACK-TO-BACK", "Frames back to back: each end character completes its frame",
                          REF + "; Table 2-10",
                          "Each end character completes its frame at once; the next character begins a new frame "

@@ -23,6 +23,7 @@ from ._build import (
     frame_of,
     hold,
     modem_case,
+    unbuilt_case,
     quiet_flow,
     receive_case,
     send,
@@ -62,15 +63,30 @@ def _long_echo(p):
     return f, send_bytes(f, p)
 
 
+def _no_room(p, share: float) -> str:
+    """Why a case that holds the IUT with XOFF cannot be built: seeing the IUT stop takes
+    longer than ``share`` of the wait time for XON leaves."""
+    seen = (p.cdt + 4 * p.char_time) * 1000
+    return (f"the tester needs {seen:.0f} ms (a CDT and 4 characters) to see the IUT stop after XOFF; with "
+            f"xon_wait_ms = {p.xon_wait * 1000:.0f} that leaves no room to lift or let the wait run out "
+            f"in time ({share:.0%} of the wait time at most)")
+
+
 def _sender_side(p, xon, xoff):
     f, w = _long_echo(p)
     if f is None or not quiet_flow(p):
         return []
     first = "2*CDT + 10*CHAR" if p.end_criterion == "cdt" else "CDT + 10*CHAR"
     out = []
-    # an XOFF the tester cannot lift in time would end the job with 16#0708: no such case
+    # an XOFF the tester cannot lift in time would end the job with 16#0708: unsupported
     spots = ((1, "AFTER-FIRST", "after the first character"), (len(w) // 2, "MIDDLE", "in the middle"),
-             (len(w) - 20, "NEAR-END", "near the end")) if xon_in_time(p) else ()
+             (len(w) - 20, "NEAR-END", "near the end"))
+    if not xon_in_time(p):
+        for _k, name, where in spots:
+            out.append(unbuilt_case(p, f"FC.XOFF-{name}", f"XOFF {where} of a frame stops it; XON resumes it",
+                                    REF, "On XOFF the driver interrupts its transmission; on XON it goes on.",
+                                    "flow-control", _no_room(p, 0.75), role="both"))
+        spots = ()
     for k, name, where in spots:
         out.append(receive_case(
             p, f"FC.XOFF-{name}", f"XOFF {where} of a frame stops it; XON resumes it", REF,
@@ -84,7 +100,9 @@ def _sender_side(p, xon, xoff):
              send(xon, note="XON"),
              expect(w[k:], within="CDT + 10*CHAR", resume=True, note="the rest of the echo")],
             [f], group="flow-control", role="both", echo=False, readings=["Q15"]))
-    out += [] if not xon_in_time(p, at=0.7) else [receive_case(
+    out += [unbuilt_case(p, "FC.XON-WITHIN-WAIT", "An XON at 0.7 of the wait time resumes the frame", REF,
+                         "An XON that comes before the wait time for XON is over resumes the transmission.",
+                         "flow-control", _no_room(p, 0.2), role="both")] if not xon_in_time(p, at=0.7) else [receive_case(
         p, "FC.XON-WITHIN-WAIT", "An XON at 0.7 of the wait time resumes the frame", REF,
         "An XON that comes before the wait time for XON is over resumes the interrupted transmission; no 16#0708.",
         [send(f), expect(w[:10], within=first), send(xoff, note="XOFF"),
@@ -92,7 +110,9 @@ def _sender_side(p, xon, xoff):
          send(xon, note="XON at 0.7 of the wait time"), expect(w[10:], within="CDT + 10*CHAR", resume=True)],
         [f], group="flow-control", role="both", echo=False, timing_sensitive=True)]
     # the tester sees that the IUT has stopped (a CDT of quiet) well before the wait time is over
-    out += [] if not xon_in_time(p, at=0.4) else [receive_case(
+    out += [unbuilt_case(p, "FC.XON-WAIT-EXPIRES", "No XON within the wait time: the job is aborted with 16#0708",
+                         REF + "; Table 8-1 (07)08H", "If no XON comes within the wait time the job is aborted.",
+                         "flow-control", _no_room(p, 0.5), role="both")] if not xon_in_time(p, at=0.4) else [receive_case(
         p, "FC.XON-WAIT-EXPIRES", "No XON within the wait time: the job is aborted with 16#0708",
         REF + "; Table 8-1 (07)08H",
         "If no XON comes within the wait time after XOFF the send job is aborted with 16#0708; a late XON does "

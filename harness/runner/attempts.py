@@ -66,6 +66,8 @@ class CaseRunner:
     def unsupported_reason(self, v: Vector, caps: frozenset[str]) -> str | None:
         """Why the case cannot run against the profile's IUT over a transport that carries
         ``caps`` (None: it can)."""
+        if v.not_buildable:
+            return v.not_buildable
         if self.profile is not None:
             if v.procedure != self.profile.procedure.id:
                 return (f"the vector is for {v.proc.title}; the IUT profile is for "

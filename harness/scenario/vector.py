@@ -117,6 +117,10 @@ class Vector:
     extra: dict[str, Any] = field(default_factory=dict)
     #: ids of the manual's rules the vector checks (the procedure's catalogue, ptpcert.rules)
     rules: tuple[str, ...] = ()
+    #: why the case cannot be built for the profile it was generated for ("" where it can):
+    #: such a case stays in the suite, so that the report lists it as unsupported with the
+    #: reason instead of leaving it out without a word; its steps are not run
+    not_buildable: str = ""
 
     def __post_init__(self) -> None:
         i = unmarked_since(self.steps)

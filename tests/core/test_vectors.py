@@ -240,3 +240,27 @@ def test_time_expressions_are_parsed_once_and_never_by_two_threads_at_once(monke
     calls.clear()
     work(0)
     assert calls == [], "a text parsed before is not parsed again"
+
+
+def test_a_case_that_cannot_be_built_is_unsupported_with_its_reason():
+    """A suite's case that the profile leaves no room for stays listed (Vector.not_buildable):
+    the runner reports it unsupported with that reason and runs none of its steps."""
+    from dataclasses import replace
+
+    from ptpcert import results as R
+    from ptpcert.profile import load_profile
+    from ptpcert.runner import Runner
+    from ptpcert.suite import load_suite
+    from ptpcert.transport import make_factory
+
+    prof = load_profile(ROOT / "conformance" / "profiles" / "reference-20ms.toml")
+    v = load_suite(prof, [])[0]
+    why = "the profile leaves no room for it (a test's reason)"
+    factory = make_factory("sim:", prof)
+    try:
+        res = Runner(factory, prof).run_case(replace(v, not_buildable=why))
+        ok = Runner(factory, prof).run_case(v)
+    finally:
+        factory.shutdown()
+    assert (res.verdict, res.message) == (R.UNSUPPORTED, why) and not res.transcript
+    assert ok.verdict != R.UNSUPPORTED
