@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ptpcert.procedures.p3964.model import codec as link
 from ptpcert.procedures.rk512.model import Rk512Params
 from ptpcert.scenario import Expected, Expr, StatusSpec, Step, Vector
 from ptpcert.status import lookup
@@ -124,6 +125,27 @@ def tester_send(hdr: bytes, data: bytes, note: str = "") -> list[Step]:
         out.append(prime(f, note=note if k == 0 else ""))
         out.append(receive(resp(0, first=k == 0)))
     return out
+
+
+def line_chars(p: Rk512Params, *frames: bytes) -> int:
+    """The characters ``frames`` put on the line as blocks: STX, the receiver's DLE, the
+    block (DLEs doubled, DLE ETX, BCC), the receiver's DLE (§2.2.2)."""
+    return sum(len(link.frame(f, p.procedure)) + 2 for f in frames)
+
+
+def under_tres(p: Rk512Params, frac: float, *frames: bytes) -> str:
+    """A pause of ``frac`` of what the IUT's shortest T_RES (TRES_MIN) leaves once ``frames``
+    have crossed the line: held that long before them, they still arrive within T_RES at
+    any baud rate (§2.2.3 Figs. 2-18, 2-19)."""
+    return f"{frac}*(TRES_MIN - {line_chars(p, *frames)}*CHAR)"
+
+
+def unprompted(p: Rk512Params, frame: bytes) -> str:
+    """How long the tester watches the IUT send nothing unprompted before ``frame``: 2 ADT,
+    or less where that and ``frame`` would not fit the IUT's T_RES."""
+    if 2 * p.adt + line_chars(p, frame) * p.char_time <= 0.8 * p.t_res_min:
+        return "2*ADT"
+    return under_tres(p, 0.5, frame)
 
 
 def tester_fetch(hdr: bytes, data: bytes, pause: str | None = None) -> list[Step]:

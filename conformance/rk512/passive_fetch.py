@@ -2,7 +2,7 @@
 2-19; §6.3.2 "Providing data", Tables 6-8, 6-10): P-04, P-05 for every data type, P-13,
 P-14 (FETCH from a DX)."""
 
-from ._build import case, header, pattern, prime, receive, resp, seq_data, tester_fetch, tester_send
+from ._build import case, cont, header, pattern, prime, receive, resp, seq_data, tester_fetch, tester_send, unprompted
 
 SIZES = (6, 128, 300, 1024)
 NAMES = {"D": "DB", "X": "DX", "E": "inputs", "A": "outputs", "M": "flags", "T": "timers", "Z": "counters"}
@@ -11,22 +11,23 @@ NAMES = {"D": "DB", "X": "DX", "E": "inputs", "A": "outputs", "M": "flags", "T":
 def _fetch(c, typ: str, n: int):
     """(steps, needs) of a FETCH of ``n`` bytes of type ``typ`` from the start of its area,
     answered from the memory pattern (or, for DB/DX of unknown contents, written first)."""
+    pause = unprompted(c.p, cont("E", typ))
     if typ in "DX":
         number = c.db if typ == "D" else c.dx
         needs = {"db" if typ == "D" else "dx": [number], "db_bytes": n}
         if c.pattern_known:
-            return tester_fetch(header("E", typ, number, 0, n // 2), pattern(typ, number, 0, n), pause="2*ADT"), \
+            return tester_fetch(header("E", typ, number, 0, n // 2), pattern(typ, number, 0, n), pause=pause), \
                 {**needs, "pattern": True}
         number = c.db_w if typ == "D" else c.dx_w
         needs = {"db" if typ == "D" else "dx": [number], "db_bytes": n}
         data = seq_data(n, 0x45)
         cmd = "A" if typ == "D" else "O"
         return tester_send(header(cmd, "D", number, 0, n // 2), data) + \
-            tester_fetch(header("E", typ, number, 0, n // 2), data, pause="2*ADT"), needs
+            tester_fetch(header("E", typ, number, 0, n // 2), data, pause=pause), needs
     if typ in "TZ":
-        return tester_fetch(header("E", typ, 0, 0, n // 2), pattern(typ, 0, 0, n), pause="2*ADT"), \
+        return tester_fetch(header("E", typ, 0, 0, n // 2), pattern(typ, 0, 0, n), pause=pause), \
             {"cell_area_cells": n // 2, "pattern": True}
-    return tester_fetch(header("E", typ, 0, 0, n), pattern(typ, 0, 0, n), pause="2*ADT"), \
+    return tester_fetch(header("E", typ, 0, 0, n), pattern(typ, 0, 0, n), pause=pause), \
         {"byte_area_bytes": n, "pattern": True}
 
 

@@ -69,7 +69,11 @@ class Rk512Procedure(Procedure):
     names = ("RK512",)
     tables = ("rk512",)
     groups = GROUPS
-    time_names = ("CDT", "ADT", "NAKTIM", "BLOCK", "TRES")
+    #: TRES: the IUT's response monitoring time (the profile's, else 10 s); TRES_MIN: the
+    #: shortest it may be (the profile's, else the figures' 5 s / 7 s / 10 s by baud rate,
+    #: open point AMB-02): a response the tester holds back stays under TRES_MIN, a pause
+    #: meant to outlast T_RES passes TRES
+    time_names = ("CDT", "ADT", "NAKTIM", "BLOCK", "TRES", "TRES_MIN")
     #: a receiver's character delay time: the gap it still waits for a further character
     max_gap = "CDT"
     byte_names = {name: byte for byte, name in codec.CONTROL_NAMES.items()}
@@ -176,7 +180,8 @@ class Rk512Procedure(Procedure):
 
     def timer_env(self, params: Any) -> dict[str, float]:
         return {"CDT": params.cdt, "ADT": params.adt, "CHAR": params.char_time,
-                "NAKTIM": T_NAKTIM, "BLOCK": T_BLOCK, "TRES": params.t_res}
+                "NAKTIM": T_NAKTIM, "BLOCK": T_BLOCK, "TRES": params.t_res,
+                "TRES_MIN": params.t_res_min}
 
     def edge_timers(self, params: Any) -> tuple[float, ...]:
         return (params.cdt, params.adt)
@@ -241,7 +246,9 @@ class Rk512Procedure(Procedure):
         return ("script",)
 
     def sim_option_names(self) -> tuple[str, ...]:
-        return self.SIM_OPTIONS + ("priority",)
+        # response_time_ms: the simulated IUT's own T_RES where the profile leaves it open
+        # (e.g. the figures' 5 s under a profile that declares none, AMB-02)
+        return self.SIM_OPTIONS + ("priority", "response_time_ms")
 
     def sim_options(self, options: dict[str, str]):
         options = dict(options)
@@ -249,11 +256,15 @@ class Rk512Procedure(Procedure):
         caps, options = super().sim_options(options)
         if options.get("priority", "low") not in ("low", "high"):
             raise ValueError("priority must be low or high")
+        if not options.get("response_time_ms", "10").isdigit():
+            raise ValueError("response_time_ms must be a whole number of milliseconds")
         return caps, options
 
     def sim_params(self, params: Any, options: dict[str, str]) -> Any:
         if "priority" in options:
-            return params.with_(priority=options["priority"])
+            params = params.with_(priority=options["priority"])
+        if "response_time_ms" in options:
+            params = params.with_(response_time_ms=int(options["response_time_ms"]))
         return params
 
     def sim_host(self, params, vector, options: dict[str, str], readings=None):
@@ -275,8 +286,8 @@ class Rk512Procedure(Procedure):
         group.add_argument("--link", choices=["3964R", "3964"], default="3964R",
                            help="RK 512: the link procedure below (default 3964R)")
         group.add_argument("--response-time-ms", type=int, default=None, metavar="MS",
-                           help="RK 512: T_RES, the response monitoring time of both sides (default 5000 at "
-                                ">= 1200 bit/s)")
+                           help="RK 512: T_RES, the response monitoring time of both sides (default 10000, "
+                                "the CP 341's value at every baud rate)")
         group.add_argument("--requests", metavar="FILE",
                            help="RK 512: the request script (one send/fetch/wait per line) the IUT runs from its start")
         group.add_argument("--cpu-stop", action="store_true",
@@ -398,7 +409,23 @@ class Rk512Procedure(Procedure):
                     return f"needs {key.upper()} {n}; the profile's [rk512] {key}_range is {list(rng)}"
         if needs.get("pattern") and p.memory != "pattern":
             return "needs the IUT's memory to start with the pattern ([rk512] memory = \"pattern\")"
-        return None
+        return self._tres_shortfall(vector, p)
+
+    def _tres_shortfall(self, vector, p) -> str | None:
+        """The case's frames and pauses do not fit the IUT's T_RES at its baud rate
+        (:mod:`.fit`)."""
+        from dataclasses import replace
+
+        from ptpcert.scenario import expand
+
+        from .fit import tres_shortfall
+        fixed = {name: getattr(vector.params, name) for name in vector.binds}
+        try:
+            params = p.with_(**fixed) if fixed else p
+        except ValueError:
+            params = p
+        env = {**self.timer_env(params), "CHAR": params.char_time, "STARTUP": 0.0}
+        return tres_shortfall(expand(replace(vector, params=params)), params, env)
 
     def judge_reports(self, vector, lines: list[str]) -> list[str]:
         """The RESULT and FETCHED lines the IUT printed against the vector's ``results``, in

@@ -9,6 +9,7 @@ parameters as stand-alone 3964(R), §2.3.2). Invalid settings raise
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
@@ -24,14 +25,31 @@ _LINE_FIELDS = frozenset(f.name for f in fields(Params3964) if f.init)
 
 
 def default_response_time_ms(baud_rate: int | None) -> int:
-    """T_RES when the profile gives none. The manual's figures (Figs. 2-18/2-19) say
-    "T_RES = 5 s (7 s, 10 s) depending on the transmission rate"; the reading taken (open
-    point AMB-02, :class:`~ptpcert.procedures.rk512.model.readings.Rk512Readings`) is 5 s at 1200 bit/s
-    and above, 7 s at 600 bit/s and 10 s at 300 bit/s. The CP 341's prose value is 10 s at
-    every rate; a profile that wants it says ``response_time_ms = 10000``."""
+    """T_RES when the profile gives none: 10 s at every rate, as the CP 341's prose gives it
+    (§2.2.3 "Response message frame": "for 300 to 76800 bit/s the monitoring time is 10
+    s"). Figs. 2-18/2-19 print "T_RES = 5 s (7 s, 10 s)" depending on the rate
+    (:func:`figure_response_time_ms`): a partner may time out that early, so where a
+    profile is silent the cases accept either (open point AMB-02)."""
+    return 10000
+
+
+def figure_response_time_ms(baud_rate: int | None) -> int:
+    """The shortest T_RES a conforming partner may use where the profile gives none: the
+    figures' "5 s (7 s, 10 s)" read as 5 s at 1200 bit/s and above, 7 s at 600 bit/s and
+    10 s at 300 bit/s (open point AMB-02)."""
     if baud_rate is None or baud_rate >= 1200:
         return 5000
     return 7000 if baud_rate >= 600 else 10000
+
+
+#: the characters of the shortest exchange a requester's T_RES must cover: the response's STX,
+#: the DLE, the 4-byte response with DLE ETX and BCC, the DLE, and two characters' leeway
+SHORTEST_RESPONSE_CHARS = 12
+
+
+def shortest_response_ms(line: Params3964) -> int:
+    """The shortest T_RES with which any request can be answered at the line's rate."""
+    return math.ceil(1000 * SHORTEST_RESPONSE_CHARS * line.char_time)
 
 
 def _int(name: str, v: Any, lo: int, hi: int) -> int:
@@ -85,6 +103,9 @@ class Rk512Params:
     cell_area_cells: int = 256
     # Derived, filled in by __post_init__.
     t_res: float = field(init=False, repr=False, compare=False)
+    #: the shortest T_RES the IUT may have: ``t_res`` where the profile declares it, else
+    #: the figures' value for the baud rate (AMB-02)
+    t_res_min: float = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if self.link not in LINKS:
@@ -117,9 +138,15 @@ class Rk512Params:
         _int("byte_area_bytes", self.byte_area_bytes, 1, _MAX_AREA)
         _int("cell_area_cells", self.cell_area_cells, 1, _MAX_AREA // 2)
         ms = self.response_time_ms
+        if ms is not None and ms < shortest_response_ms(self.line):
+            raise ParameterError("response_time_ms", ms, f"at least {shortest_response_ms(self.line)} ms at "
+                                 f"{self.line.baud_rate or 'this'} bit/s: the shortest response (4 bytes) must "
+                                 "arrive within T_RES (§2.2.3 Figs. 2-18, 2-19)")
         if ms is None:
             ms = default_response_time_ms(self.line.baud_rate)
         object.__setattr__(self, "t_res", ms / 1000.0)
+        low = ms if self.response_time_ms is not None else min(ms, figure_response_time_ms(self.line.baud_rate))
+        object.__setattr__(self, "t_res_min", low / 1000.0)
 
     def __getattr__(self, name: str) -> Any:
         # the link's parameters by their names (priority, cdt_ms, setup_attempts...), so that
