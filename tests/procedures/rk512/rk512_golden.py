@@ -16,7 +16,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from rk512_rules import DLE, NAK, STX, TABLE_8_3, UNKNOWN_REATEL, body, continuation, header, response
+from rk512_rules import (DLE, NAK, RESPONDER_8_3, STX, TABLE_8_3, UNKNOWN_REATEL, body, continuation, header, response,
+                         unbody)
 
 ROOT = Path(__file__).resolve().parents[3]
 OUT = ROOT / "vectors" / "rk512"
@@ -116,6 +117,50 @@ def tester_fetch(hdr, data):
     return out
 
 
+def _responses(steps, bcc):
+    """(sender, REATEL, certain) of every error response in the steps: the IUT's (a receive
+    step or the block of an expect) and the tester's (a prime step or the block it sends);
+    ``certain`` is False where the step is optional or has alternatives."""
+    out = []
+    for d in steps:
+        if "receive" in d or "prime" in d:
+            who, frame = ("iut", d["receive"]) if "receive" in d else ("tester", d["prime"])
+            frames = [bytes.fromhex(frame)] + [bytes.fromhex(a) for a in d.get("or", [])]
+            certain = not d.get("optional") and len(frames) == 1
+        elif "expect" in d or "send" in d:
+            who = "iut" if "expect" in d else "tester"
+            frames = [unbody(bytes.fromhex(d.get("expect", d.get("send"))), bcc)]
+            certain = not d.get("optional")
+        else:
+            continue
+        for f in frames:
+            if f is not None and len(f) >= 4 and f[0] in (0x00, 0xFF) and f[1] == f[2] == 0x00 and f[3]:
+                out.append((who, f[3], certain))
+    return out
+
+
+def tester_side(steps, bcc=True) -> tuple[list[str], list[str]]:
+    """What a CP 341 in the tester's seat raises by Table 8-3 (required, optional): for each
+    error response of the IUT the requester's class-09 event (16#090E for a number the table
+    does not list); for each error response the tester sends, the responder's event that
+    sends that number (one of those the table lists; none for 0Ah, 12h and unlisted ones)."""
+    required, optional = [], []
+    for who, reatel, certain in _responses(steps, bcc):
+        if who == "iut":
+            group = code(TABLE_8_3.get(reatel, UNKNOWN_REATEL))
+        elif reatel in RESPONDER_8_3:
+            group = "|".join(code(c) for c in RESPONDER_8_3[reatel])
+        else:
+            continue
+        if certain and group not in required:
+            required.append(group)
+        elif not certain:
+            for c in group.split("|"):
+                if c not in optional:
+                    optional.append(c)
+    return required, sorted(optional)
+
+
 def vector(vid, title, reference, rule, group, role, steps, *, link="3964R", iut=(), optional=(), requests=(),
            results=(), needs=None, readings=(), provenance="", params=None, binds=("link",), setup=None, notes=""):
     v = {"id": vid, "procedure": "RK512", "title": title, "reference": reference, "rule": rule, "group": group,
@@ -130,9 +175,12 @@ def vector(vid, title, reference, rule, group, role, steps, *, link="3964R", iut
         v["setup"] = setup
     v["steps"] = steps
     v["params"] = {"link": link, **(params or {})}
-    v["expected"] = {"iut_status": list(iut), "tester_status": []}
+    tester, tester_optional = tester_side(steps, link == "3964R")
+    v["expected"] = {"iut_status": list(iut), "tester_status": tester}
     if optional:
         v["expected"]["iut_status_optional"] = list(optional)
+    if tester_optional:
+        v["expected"]["tester_status_optional"] = tester_optional
     extra = {}
     if requests:
         extra["requests"] = list(requests)
@@ -386,13 +434,13 @@ def class06():
     refuse("16#060D", "the CPU in STOP: REATEL 2Ah", header("A", "D", 11, 0, 2) + seq(4), 0x2A,
            "A command that arrives while the CPU is in STOP is refused with REATEL 2Ah.", setup="cpu_stop")
     out.append(vector(
-        "RK512.ERR06.060E", "16#060E: a continuation with no request open: REATEL 36h (an answer is inferred)",
-        R06.format(c="16#060E", r=0x36),
-        "A continuation that belongs to no open request is a synchronisation error, answered with REATEL 36h.",
+        "RK512.ERR06.060E", "16#060E: a continuation with no request open: REATEL 36h",
+        R06.format(c="16#060E", r=0x36) + ", 16#0908",
+        "A continuation that belongs to no open request is a synchronisation error (16#060E), answered with REATEL "
+        "36h, which the requester reports as 16#0908; a responder that stays silent leaves it waiting out T_RES.",
         "passive-header", "receiver",
-        [prime(continuation("A", "D", seq(72))), receive(response(0x36, first=False), optional=True,
-                                                          absent_grade="informational")],
-        optional=["16#060E"], readings=["AMB-26"], provenance="[S][I]"))
+        [prime(continuation("A", "D", seq(72))), receive(response(0x36, first=False))],
+        iut=["16#060E"], readings=["AMB-26"], provenance="[S]"))
     refuse("16#060F", "flag 12.3 set: REATEL 32h", header("A", "D", 11, 0, 2, b9=12, b10=0x13) + seq(4), 0x32,
            "While the named coordination flag is set the request is refused with REATEL 32h.", readings=["AMB-07"],
            setup={"name": "flag_set", "flag": "12.3", "reset_ms": 1000})
