@@ -110,12 +110,14 @@ def prime(frame, at: str = "0", note: str = "") -> Step:
 
 
 def receive(frame, within: str = "TRES", after: str = "0", *, alternatives=(), alt_grade: str = "pass",
-            optional: bool = False, absent_grade: str = "pass", since: str = "previous", note: str = "") -> Step:
+            optional: bool = False, absent_grade: str = "pass", since: str = "previous", note: str = "",
+            or_end: int | None = None) -> Step:
     """The IUT sends ``frame`` (or one of ``alternatives``), its STX within ``within``; the
-    tester receives it as a conforming 3964(R) receiver."""
+    tester receives it as a conforming 3964(R) receiver. ``or_end``: where an alternative
+    came, the case ends after this many further steps."""
     return Step("receive", h(frame), after=Expr(after), within=Expr(within),
                 alternatives=tuple(h(a) for a in alternatives), alt_grade=alt_grade, optional=optional,
-                absent_grade=absent_grade, since=since, note=note)
+                absent_grade=absent_grade, since=since, note=note, or_end=or_end)
 
 
 def tester_send(hdr: bytes, data: bytes, note: str = "") -> list[Step]:

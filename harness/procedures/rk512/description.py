@@ -8,7 +8,8 @@ The interface to an RK 512 IUT:
 
 * the profile: the ``[iut]`` keys of 3964R (priority, timers, attempts, line) and the
   ``[rk512]`` table (link, response_time_ms, roles, requests, memory, db_range, dx_range,
-  db_bytes, byte_area_bytes, cell_area_cells); ``send_trigger = "none"``;
+  db_bytes, byte_area_bytes, cell_area_cells, cell_fetch_limit_bytes, serves_dx_fetch);
+  ``send_trigger = "none"``;
 * ``{requests}`` in the exec:/pty: command is replaced by the path of the case's request
   script (one request per line, empty where the IUT has nothing to request);
 * set-ups ``cpu_stop`` and ``flag_set`` (words appended to the command);
@@ -20,7 +21,9 @@ A vector's ``extra`` table carries ``requests`` (the script's lines), ``results`
 RESULT/FETCHED lines expected, in order; alternatives separated by `` || ``, a FETCHED line
 ending in `` *`` accepts any data) and ``needs`` (what the IUT's memory must offer: ``db``,
 ``dx`` numbers, ``db_bytes``, ``byte_area_bytes``, ``cell_area_cells`` at least, ``pattern``
-for the pattern start contents).
+for the pattern start contents, ``cell_fetch_bytes``: the bytes of timers/counters a partner's
+FETCH must be served, ``silent``: [rk512] keys the profile must leave out, as the vector
+accepts either reading of them).
 """
 
 from __future__ import annotations
@@ -56,9 +59,10 @@ READING_NAMES = tuple(f"AMB-{i:02d}" for i in range(1, 38)) + tuple(f"N{i}" for 
 
 _LINE_FIELDS = tuple(f.name for f in fields(Params3964) if f.init and f.name != "procedure")
 _RK_FIELDS = ("link", "response_time_ms", "roles", "requests", "memory", "db_range", "dx_range", "db_bytes",
-              "byte_area_bytes", "cell_area_cells")
+              "byte_area_bytes", "cell_area_cells", "cell_fetch_limit_bytes", "serves_dx_fetch")
 _EMPTY_SCRIPT = "requests-none.txt"
-RECEIVE = MacroStep(keys=frozenset({"after", "within", "optional", "absent_grade", "or", "or_grade", "since", "note"}),
+RECEIVE = MacroStep(keys=frozenset({"after", "within", "optional", "absent_grade", "or", "or_grade", "or_end", "since",
+                                    "note"}),
                     max_data=codec.MAX_BLOCK, defaults={"within": "ADT"})
 
 
@@ -202,7 +206,7 @@ class Rk512Procedure(Procedure):
         DLE, block, DLE). ``receive``: the IUT sends the frame and the tester receives it as
         a conforming receiver: the IUT's STX in the step's window, the tester's DLE at once,
         the block (its first character within CDT, §2.2.2 "Receiving data"), the tester's
-        DLE."""
+        DLE. A receive's ``or_end`` counts the steps after its DLE."""
         from ptpcert.scenario import Expr, Step
 
         proc = params.procedure
@@ -218,7 +222,7 @@ class Rk512Procedure(Procedure):
                  note=f"STX ({note})"),
             Step("send", bytes([codec.DLE]), note="DLE: the tester is ready to receive"),
             Step("expect", codec.body(step.data, proc), within=Expr("CDT"), alternatives=alts,
-                 alt_grade=step.alt_grade,
+                 alt_grade=step.alt_grade, or_end=None if step.or_end is None else step.or_end + 1,
                  note=(f"{step.note}; " if step.note else "") + f"block: {describe_frame(step.data)}"
                       + (" (or " + " or ".join(describe_frame(a) for a in step.alternatives) + ")"
                          if step.alternatives else "") + f"; {end}"),
@@ -382,50 +386,8 @@ class Rk512Procedure(Procedure):
         return not script_lines(vector) and not (vector.setup and vector.setup[0] == "flag_set")
 
     def unsupported_reason(self, vector, profile, capabilities, factory) -> str | None:
-        if profile is None:
-            return None
-        p = profile.params
-        role = vector.iut_role
-        if role in ("receiver", "both", "idle") and "passive" not in p.roles:
-            return "tests the IUT in the passive role; the profile's [rk512] roles do not include \"passive\""
-        if script_lines(vector) or role in ("sender", "both"):
-            if "active" not in p.roles:
-                return "tests the IUT in the active role; the profile's [rk512] roles do not include \"active\""
-            if p.requests != "script":
-                return "needs the IUT to run a request script; the profile has [rk512] requests = \"none\""
-            if not getattr(factory, "virtual", False):
-                from ptpcert.transport.base import SETUPS
-                if SETUPS not in capabilities:
-                    return "needs the IUT started with a request script; this transport does not start the IUT"
-                if "{requests}" not in getattr(factory, "command", "{requests}"):
-                    return "needs a request script; the IUT command has no {requests} to put its path in"
-        needs = vector.extra.get("needs", {})
-        for key in ("db_bytes", "byte_area_bytes", "cell_area_cells"):
-            if key in needs and needs[key] > getattr(p, key):
-                return f"needs {key} >= {needs[key]}; the profile's [rk512] has {getattr(p, key)}"
-        for key, rng in (("db", p.db_range), ("dx", p.dx_range)):
-            for n in needs.get(key, []):
-                if not rng or not rng[0] <= n <= rng[1]:
-                    return f"needs {key.upper()} {n}; the profile's [rk512] {key}_range is {list(rng)}"
-        if needs.get("pattern") and p.memory != "pattern":
-            return "needs the IUT's memory to start with the pattern ([rk512] memory = \"pattern\")"
-        return self._tres_shortfall(vector, p)
-
-    def _tres_shortfall(self, vector, p) -> str | None:
-        """The case's frames and pauses do not fit the IUT's T_RES at its baud rate
-        (:mod:`.fit`)."""
-        from dataclasses import replace
-
-        from ptpcert.scenario import expand
-
-        from .fit import tres_shortfall
-        fixed = {name: getattr(vector.params, name) for name in vector.binds}
-        try:
-            params = p.with_(**fixed) if fixed else p
-        except ValueError:
-            params = p
-        env = {**self.timer_env(params), "CHAR": params.char_time, "STARTUP": 0.0}
-        return tres_shortfall(expand(replace(vector, params=params)), params, env)
+        from .applies import unsupported_reason
+        return unsupported_reason(self, vector, profile, capabilities, factory)
 
     def judge_reports(self, vector, lines: list[str]) -> list[str]:
         """The RESULT and FETCHED lines the IUT printed against the vector's ``results``, in

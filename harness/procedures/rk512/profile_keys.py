@@ -43,4 +43,10 @@ SCHEMA: tuple[Key, ...] = tuple(
         lo=1, hi=_AREA, unit="bytes"),
     Key("cell_area_cells", "rk512", "int", "the number of timers and of counters (2 bytes each)",
         default=256, lo=1, hi=_AREA // 2),
+    Key("cell_fetch_limit_bytes", "rk512", "int", "the most bytes of timers or counters a partner's FETCH is "
+        "served (a CP 341: 32); a longer one is refused (16#0608, REATEL 34h or 0Ch); left out: either is "
+        "accepted (AMB-20)", ref="§6.3.2 'Providing data'", default=None, lo=2, hi=1024, step=2, unit="bytes"),
+    Key("serves_dx_fetch", "rk512", "bool", "whether a partner's FETCH from a DX is served (a CP 341 lists "
+        "no DX source) or refused; left out: either is accepted (AMB-20)", ref="§6.3.2 Table 6-10",
+        default=None),
 )

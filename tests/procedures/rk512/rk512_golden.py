@@ -71,12 +71,15 @@ def prime(frame, note="", at=None):
     return d
 
 
-def receive(frame, within="TRES", note="", alternatives=(), alt_grade=None, optional=False, absent_grade=None):
+def receive(frame, within="TRES", note="", alternatives=(), alt_grade=None, optional=False, absent_grade=None,
+            or_end=None):
     d = {"receive": hx(frame), "within": within}
     if alternatives:
         d["or"] = [hx(a) for a in alternatives]
         if alt_grade:
             d["or_grade"] = alt_grade
+        if or_end is not None:
+            d["or_end"] = or_end
     if optional:
         d["optional"] = True
         if absent_grade:
@@ -191,6 +194,16 @@ def vector(vid, title, reference, rule, group, role, steps, *, link="3964R", iut
     if extra:
         v["extra"] = extra
     return v
+
+
+#: what a CP 341 does not serve a partner, the profile key that declares it, and how it may
+#: refuse (the manual names no number, AMB-20): timers/counters over 32 bytes with 16#0608 and
+#: 34h (Table 8-3) or 0Ch; a DX with 10h (16#0604), 14h (16#0606) or 0Ch (16#0607)
+CP341_REFUSALS = {
+    "T": ("cell_fetch_limit_bytes", (0x34, 0x0C), ["16#0608", "16#0607"]),
+    "Z": ("cell_fetch_limit_bytes", (0x34, 0x0C), ["16#0608", "16#0607"]),
+    "X": ("serves_dx_fetch", (0x10, 0x14, 0x0C), ["16#0604", "16#0606", "16#0607"]),
+}
 
 
 # -- the vectors ------------------------------------------------------------------------------
@@ -376,17 +389,32 @@ def sizes():
                 needs.update({"db" if typ == "D" else "dx": [number], "db_bytes": n})
             elif typ in "TZ":
                 needs["cell_area_cells"] = n // 2
+                if n <= 32:
+                    needs["cell_fetch_bytes"] = n   # served by every partner whose limit allows it
             else:
                 needs["byte_area_bytes"] = n
+            steps = tester_fetch(header("E", typ, number, 0, length), pattern(typ, number, 0, n))
+            ref = "§2.2.3 Figs. 2-15, 2-16, Tables 2-1, 2-2; §6.3.2 Table 6-8"
+            rule = ("A FETCH is answered with exactly the data asked for, 128 bytes per response and the rest in the "
+                    "last, each further chunk after a continuation FETCH.")
+            readings, events = ["AMB-14", "AMB-15"] if typ in "EAMTZ" else [], []
+            refused = CP341_REFUSALS.get(typ) if typ == "X" or n > 32 else None
+            if refused:
+                # a CP 341 serves no DX and at most 32 bytes of timers/counters to a partner
+                # (§6.3.2 "Providing data", Table 6-10): with the profile silent, its refusal at
+                # once (no data; the manual names no number, AMB-20) ends the vector too
+                key, reatels, events = refused
+                steps[1] = receive(bytes.fromhex(steps[1]["receive"]), alternatives=[response(r) for r in reatels],
+                                   alt_grade="informational", or_end=0)
+                needs["silent"] = [key]
+                readings = readings + ["AMB-20"]
+                ref += "; §6.3.2 'Providing data', Table 6-10"
+                rule += (" A responder that does not serve it (a CP 341: no DX, at most 32 bytes of timers or "
+                         "counters) refuses it at once with an error number and no data.")
             out.append(vector(
                 f"RK512.FETCH.{typ}-{n}", f"FETCH of {n} bytes of type '{typ}' from the start of its area",
-                "§2.2.3 Figs. 2-15, 2-16, Tables 2-1, 2-2; §6.3.2 Table 6-8",
-                "A FETCH is answered with exactly the data asked for, 128 bytes per response and the rest in the last, "
-                "each further chunk after a continuation FETCH.",
-                "passive-fetch", "receiver",
-                tester_fetch(header("E", typ, number, 0, length), pattern(typ, number, 0, n)),
-                params=BIG, needs=needs, readings=["AMB-14", "AMB-15"] if typ in "EAMTZ" else [],
-                provenance="[S][F]" if typ == "D" else "[S][I]"))
+                ref, rule, "passive-fetch", "receiver", steps, params=BIG, needs=needs, readings=readings,
+                optional=events, provenance="[S][F]" if typ == "D" else "[S][I]"))
     return out
 
 

@@ -87,7 +87,11 @@ class Rk512Params:
     * ``memory``: "pattern" (the start contents of :mod:`.memory`) or "unknown";
     * ``db_range``/``dx_range``: the DB and DX numbers that exist (inclusive; ``()``: no DX);
     * ``db_bytes``: the size of every DB/DX; ``byte_area_bytes``: the size of the M, E and
-      A areas; ``cell_area_cells``: the number of timers and of counters (2 bytes each).
+      A areas; ``cell_area_cells``: the number of timers and of counters (2 bytes each);
+    * ``cell_fetch_limit_bytes``: the most bytes of timers or counters a partner's FETCH is
+      served (a CP 341: 32, §6.3.2 "Providing data"); ``serves_dx_fetch``: whether a
+      partner's FETCH from a DX is served (Table 6-10 lists no DX source). None: not
+      declared, the readings of open point AMB-20 decide (cases accept both).
     """
 
     link: str = "3964R"
@@ -101,6 +105,8 @@ class Rk512Params:
     db_bytes: int = 512
     byte_area_bytes: int = 256
     cell_area_cells: int = 256
+    cell_fetch_limit_bytes: int | None = None
+    serves_dx_fetch: bool | None = None
     # Derived, filled in by __post_init__.
     t_res: float = field(init=False, repr=False, compare=False)
     #: the shortest T_RES the IUT may have: ``t_res`` where the profile declares it, else
@@ -137,6 +143,13 @@ class Rk512Params:
             raise ParameterError("db_bytes", self.db_bytes, "an even number of bytes (whole data words)")
         _int("byte_area_bytes", self.byte_area_bytes, 1, _MAX_AREA)
         _int("cell_area_cells", self.cell_area_cells, 1, _MAX_AREA // 2)
+        if self.cell_fetch_limit_bytes is not None:
+            _int("cell_fetch_limit_bytes", self.cell_fetch_limit_bytes, 2, 1024)
+            if self.cell_fetch_limit_bytes % 2:
+                raise ParameterError("cell_fetch_limit_bytes", self.cell_fetch_limit_bytes,
+                                     "an even number of bytes (2 per timer or counter)")
+        if self.serves_dx_fetch is not None and not isinstance(self.serves_dx_fetch, bool):
+            raise ParameterError("serves_dx_fetch", self.serves_dx_fetch, "true or false")
         ms = self.response_time_ms
         if ms is not None and ms < shortest_response_ms(self.line):
             raise ParameterError("response_time_ms", ms, f"at least {shortest_response_ms(self.line)} ms at "
@@ -197,8 +210,9 @@ class Rk512Params:
             if f.init and f.name != "line":
                 v = getattr(self, f.name)
                 out[f.name] = list(v) if isinstance(v, tuple) else v
-        if out["response_time_ms"] is None:
-            del out["response_time_ms"]
+        for key in ("response_time_ms", "cell_fetch_limit_bytes", "serves_dx_fetch"):
+            if out[key] is None:   # not declared: the manual's open reading stands
+                del out[key]
         return out
 
     @classmethod
