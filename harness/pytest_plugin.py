@@ -18,6 +18,8 @@ plugin costs other pytest runs nothing.
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 _STATE = pytest.StashKey[dict]()
@@ -41,27 +43,45 @@ def _group_marker(group: str) -> str:
 
 
 def pytest_configure(config) -> None:
+    # bad input is refused as `ptpcert run` refuses it: one usage error, before any case
     url = config.getoption("--ptpcert-iut")
-    if not url:
-        return
     path = config.getoption("--ptpcert-profile")
+    if url is None:
+        if path is not None:
+            raise pytest.UsageError("ptpcert: --ptpcert-profile needs --ptpcert-iut URL (the IUT to run the "
+                                    "cases against); without it no case is collected")
+        return
+    if not url.strip():
+        raise pytest.UsageError("ptpcert: --ptpcert-iut is empty; give the IUT's URL (exec:COMMAND, pty:COMMAND, "
+                                "sim:, a serial URL)")
     if not path:
-        raise pytest.UsageError("--ptpcert-iut needs --ptpcert-profile FILE (the IUT profile)")
+        raise pytest.UsageError("ptpcert: --ptpcert-iut needs --ptpcert-profile FILE (the IUT profile)")
+    tolerance = config.getoption("--ptpcert-tolerance-ms")
+    if not (math.isfinite(tolerance) and 0 <= tolerance <= 10_000):
+        raise pytest.UsageError(f"ptpcert: --ptpcert-tolerance-ms {tolerance:g} is out of range (allowed: a "
+                                "number from 0 to 10000 milliseconds)")
     from .procedure import ProcedureError
     from .profile import ProfileError, load_profile
     from .scenario import VectorError, load_vector_sets
-    from .suite import load_suite
+    from .suite import check_expected_failures, load_suite
 
     try:
         profile = load_profile(path)
-        cases = load_suite(profile, load_vector_sets(config.getoption("--ptpcert-vectors")),
-                           select=config.getoption("--ptpcert-select") or None)
+        vectors = load_vector_sets(config.getoption("--ptpcert-vectors"))
+        check_expected_failures(profile, load_suite(profile, vectors))
+        cases = load_suite(profile, vectors, select=config.getoption("--ptpcert-select") or None)
     except (ProfileError, VectorError, ProcedureError, ValueError) as exc:
         raise pytest.UsageError(f"ptpcert: {exc}") from None
+    if not cases:
+        raise pytest.UsageError("ptpcert: no case matches --ptpcert-select "
+                                + " ".join(config.getoption("--ptpcert-select")))
     config.addinivalue_line("markers", "ptpcert: a ptpcert conformance case")
     for g in profile.procedure.groups:
         config.addinivalue_line("markers", f"{_group_marker(g)}: ptpcert cases of the group '{g}'")
     config.stash[_STATE] = {"url": url, "profile": profile, "cases": cases, "runner": None}
+    idle = _runner(config).nothing_to_test(cases)
+    if idle:   # every case would skip: a gate must not read that as a pass
+        raise pytest.UsageError(f"ptpcert: {idle}")
 
 
 def pytest_collection_modifyitems(session, config, items) -> None:
@@ -79,13 +99,18 @@ def _runner(config):
     state = config.stash[_STATE]
     if state["runner"] is None:
         from .runner import RunOptions, Runner
-        from .transport import TransportError, make_factory
+        from .transport import TransportError, make_factory, preflight
 
         profile = state["profile"]
         try:
             factory = make_factory(state["url"], profile)
         except TransportError as exc:
             raise pytest.UsageError(f"ptpcert: {exc}") from None
+        try:   # an IUT that cannot even start is the harness's error, not 100 failed cases
+            preflight(state["url"], factory, profile.params)
+        except TransportError as exc:
+            factory.shutdown()
+            raise pytest.UsageError(f"ptpcert: the IUT could not be started: {exc}") from None
         opts = RunOptions(late_ms=config.getoption("--ptpcert-tolerance-ms"), echo=profile.echo,
                           check_status=profile.status_from_stderr)
         state["runner"] = Runner(factory, profile, opts)

@@ -34,9 +34,9 @@ class Key:
     (one of ``choices``), ``byte`` (a character code 0..255), ``bytes`` (a list of
     ``size[0]``..``size[1]`` character codes), ``pair`` (``[first, last]`` with
     ``lo <= first <= last <= hi``; ``[]`` too where ``size[0]`` is 0), ``subset`` (a
-    non-empty list of distinct ``choices``), ``str``. ``when``: the key applies only where
-    other keys of the profile have one of the given values (elsewhere it is ignored, as the
-    parameter tool greys it out); a key that does not apply is still checked for its kind.
+    non-empty list of distinct ``choices``; ``[]`` too where ``size[0]`` is 0), ``str``.
+    ``when``: the key applies only where other keys of the profile have one of the given
+    values (elsewhere it is ignored, as the parameter tool greys it out); a key that does not apply is still checked for its kind.
     """
 
     name: str
@@ -103,7 +103,8 @@ class Key:
             empty = ", or [] for none" if self.size[0] == 0 else ""
             return f"[first, last] with {_num(self.lo)} <= first <= last <= {_num(self.hi)}{empty}"
         if self.kind == "subset":
-            return "a non-empty list of " + ", ".join(_show(c) for c in self.choices) + " (each once)"
+            some = "a list" if self.size[0] == 0 else "a non-empty list"
+            return f"{some} of " + ", ".join(_show(c) for c in self.choices) + " (each once)"
         return "a string"
 
 
@@ -143,7 +144,7 @@ def problem(key: Key, value: Any) -> str | None:
         ok = (isinstance(value, list) and ((value == [] and key.size[0] == 0)
               or (len(value) == 2 and all(_is_int(v) for v in value) and key.lo <= value[0] <= value[1] <= key.hi)))
     elif k == "subset":
-        ok = (isinstance(value, list) and value and len(set(map(repr, value))) == len(value)
+        ok = (isinstance(value, list) and (value or key.size[0] == 0) and len(set(map(repr, value))) == len(value)
               and all(any(v == c and type(v) is type(c) for c in key.choices) for v in value))
     elif k == "str":
         ok = isinstance(value, str)

@@ -70,6 +70,24 @@ class ReportView:
     groups: tuple[str, ...] = ()
     names: Callable[[Mapping[str, Any]], Mapping[int, str]] = no_names
     cut_last: Callable[[bytes, bytes], bool] = never_cut
+    #: the profile keys whose values are character codes (shown in hex)
+    codes: frozenset[str] = frozenset()
+
+    def settings(self, profile: Mapping[str, Any]) -> list[tuple[str, str]]:
+        """A run's profile (as :meth:`ptpcert.profile.Profile.to_dict` gives it) as
+        ``(key, value)`` rows in the profile file's words: ``table.key`` for a key of a
+        procedure's table (``iut.setups.NAME`` for a setup), each value as the profile writes
+        it (character codes in hex, ``true``/``false``, strings in quotes)."""
+        rows: list[tuple[str, str]] = []
+        for key, value in profile.items():
+            if key == "expected_failures":
+                continue
+            if isinstance(value, Mapping):
+                table = "iut.setups" if key == "setups" else key
+                rows += [(f"{table}.{k}", _literal(v, k in self.codes)) for k, v in value.items()]
+            else:
+                rows.append((key, _literal(value, key in self.codes)))
+        return rows
 
     def words(self, text: str, params: Mapping[str, Any]) -> str:
         """``text`` with the bytes that :attr:`names` names named where they stand alone."""
@@ -81,6 +99,21 @@ class ReportView:
             return list(present)
         ordered = [g for g in self.groups if g in present]
         return ordered + sorted(g for g in present if g not in self.groups)
+
+
+def _literal(value: Any, code: bool = False) -> str:
+    """``value`` as a profile file writes it; ``code``: integers as character codes."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int) and code:
+        return f"0x{value:02X}"
+    if isinstance(value, float):
+        return f"{value:g}"
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_literal(v, code) for v in value) + "]"
+    return str(value)
 
 
 #: the view of a run whose procedure is not known

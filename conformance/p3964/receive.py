@@ -305,8 +305,9 @@ def cases(p):
                  [send(STX), expect(DLE), send("31 32 10 03", note="the partner's data and DLE ETX"),
                   expect(DLE, within="CDT", note="DLE at DLE ETX, before CDT"),
                   send(bytes([bcc_r]), note=f"the partner's BCC ({bcc_r:02X}): a stray character now"),
-                  partner("40*ADT + 40*CDT + 2s",
-                               "the tester, a 3964R station, answers whatever follows (the IUT's echo)")],
+                  partner("JOB + 40*CDT + 2s",
+                          "the tester, a 3964R station, answers whatever follows (the IUT's echo, with every "
+                          "attempt the IUT has: JOB)")],
                  iut=((), ["16#0802", "16#0702", "16#0703", "16#0704", "16#0706", "16#0707", "16#0701", "16#0709", "16#070A"]),
                  delivered=[b"\x31\x32"], tester_params=p.with_(procedure="3964R",
                                                                 priority="high" if p.priority == "low" else "low"),

@@ -12,38 +12,26 @@ def cases(p):
     P = PLAIN
     B = body(P, p)
     return [
-        case(p, "RELEASE.NAK-RETRY", "Block refused with NAK: the IUT repeats it from STX",
-             "§2.2.2 Send/release; Fig. 2-10 'any character except DLE', 'W+1'; Table 8-1 16#0706, 16#0701",
-             "A NAK after the end sequence is a failed transmission attempt: the sender begins again with STX (first repetition: 16#0701).",
-             "repetition", "sender",
-             [prime(P), expect(STX, within=RETRY), send(DLE), expect(B, within="CDT"), send(NAK, note="refused"),
-              expect(STX, within=RETRY, note="the repetition")] + echo_send(P, p)[1:],
-             iut=((), ["16#0706", "16#0701"]), delivered=[P], sent=[P], requires=ECHO, readings=["A8"],
-             provenance="[S][F]", rules=["3964.TX.RELEASE-REFUSED"]),
-        case(p, "RELEASE.OTHER-RETRY", "Block answered by another character (even STX): the IUT repeats it",
-             "§2.2.2 Send/release; Fig. 2-10 'any character except DLE'; Table 8-1 16#0706",
-             "Any character but DLE after the end sequence, STX included, is a failed transmission attempt, not a conflict.",
-             "repetition", "sender",
-             [prime(P), expect(STX, within=RETRY), send(DLE), expect(B, within="CDT"), send(STX, note="STX instead of DLE"),
-              expect(STX, within=RETRY, note="the repetition, not a DLE")] + echo_send(P, p)[1:],
-             iut=((), ["16#0706", "16#0701"]), delivered=[P], sent=[P], requires=ECHO, readings=["A8"],
-             provenance="[S][I]", rules=["3964.TX.RELEASE-REFUSED"]),
-        case(p, "RELEASE.CHARACTER-ERROR-RETRY", "Block answered by a corrupted character: the IUT repeats it",
-             "Fig. 2-10 'invalid character'; Table 8-1 16#080C",
-             "A character with a transmission error after the end sequence is a failed transmission attempt.",
-             "character-error", "sender",
-             [prime(P), expect(STX, within=RETRY), send(DLE), expect(B, within="CDT"),
-              send_error("10", note="DLE with a parity error"), expect(STX, within=RETRY)] + echo_send(P, p)[1:],
-             iut=((), ["16#080C", "16#0706", "16#0701"]), delivered=[P], sent=[P], requires=ECHO, readings=["A8"],
-             provenance="[F]", rules=["3964.TX.RELEASE-CHARACTER-ERROR"]),
-        case(p, "RELEASE.TIMEOUT-RETRY", "No acknowledgement after the block: repeated after ADT, not before",
-             "§2.2.2 Send/release; Fig. 2-10 'start T_ADT', 'T > T_ADT'; Table 8-1 16#0707",
-             "When no DLE comes within ADT after the end sequence the sender repeats the block from STX (ADT counted from its last byte or from DLE ETX: A12).",
-             "repetition", "sender",
-             [prime(P), expect(STX, within=RETRY), send(DLE), expect(B, within="CDT", note="the tester stays silent"),
-              expect(STX, after="ADT - CHAR", within="ADT + 2*CHAR", note="the repetition")] + echo_send(P, p)[1:],
-             iut=((), ["16#0707", "16#0701"]), delivered=[P], sent=[P], requires=ECHO, readings=["A12"],
-             provenance="[S]", rules=["3964.TX.RELEASE-TIMEOUT"]),
+        _refused(p, "RELEASE.NAK-RETRY", "Block refused with NAK",
+                 "§2.2.2 Send/release; Fig. 2-10 'any character except DLE', 'W+1'; Table 8-1 16#0706, 16#0701",
+                 "A NAK after the end sequence is a failed transmission attempt",
+                 "repetition", [send(NAK, note="refused")], ("16#0706",), provenance="[S][F]",
+                 rules=["3964.TX.RELEASE-REFUSED"]),
+        _refused(p, "RELEASE.OTHER-RETRY", "Block answered by another character (even STX)",
+                 "§2.2.2 Send/release; Fig. 2-10 'any character except DLE'; Table 8-1 16#0706",
+                 "Any character but DLE after the end sequence, STX included, is a failed transmission attempt, not a conflict",
+                 "repetition", [send(STX, note="STX instead of DLE")], ("16#0706",), provenance="[S][I]",
+                 rules=["3964.TX.RELEASE-REFUSED"]),
+        _refused(p, "RELEASE.CHARACTER-ERROR-RETRY", "Block answered by a corrupted character",
+                 "Fig. 2-10 'invalid character'; Table 8-1 16#080C",
+                 "A character with a transmission error after the end sequence is a failed transmission attempt",
+                 "character-error", [send_error("10", note="DLE with a parity error")], ("16#080C", "16#0706"),
+                 provenance="[F]", rules=["3964.TX.RELEASE-CHARACTER-ERROR"]),
+        _refused(p, "RELEASE.TIMEOUT-RETRY", "No acknowledgement after the block within ADT",
+                 "§2.2.2 Send/release; Fig. 2-10 'start T_ADT', 'T > T_ADT'; Table 8-1 16#0707",
+                 "When no DLE comes within ADT after the end sequence (counted from its last byte or from DLE ETX: A12) "
+                 "the transmission attempt has failed; the sender does not give up on it early",
+                 "repetition", [], ("16#0707",), timeout=True, provenance="[S]", rules=["3964.TX.RELEASE-TIMEOUT"]),
         case(p, "RELEASE.ATTEMPTS-REFUSED", f"Every block refused: exactly {M} blocks, then one NAK",
              "§2.2.2 Send/release; Fig. 2-10 'W+1', 'send NAK'; Table 2-4 transmission attempts; Table 8-1 16#070A",
              "The sender makes exactly 'transmission attempts' attempts, the first included, then sends NAK (16#070A).",
@@ -65,6 +53,31 @@ def cases(p):
              provenance="[S]", rules=["3964.TX.ATTEMPTS", "3964.TX.FINAL-NAK"]),
         _mixed(p),
     ]
+
+
+def _refused(p, id, title, ref, rule, group, answer, codes, *, timeout=False, provenance, rules):
+    """The IUT's block is answered by ``answer`` (the tester's steps; none: no answer within
+    ADT). With transmission attempts left (Table 2-4) the IUT repeats the block from STX (its
+    first repetition: 16#0701); with ``transmission_attempts = 1`` that was its only attempt: it
+    sends NAK and gives up (16#070A; Fig. 2-10 'W > 6', 'send NAK')."""
+    P = PLAIN
+    window = dict(after="ADT - CHAR", within="ADT + 2*CHAR") if timeout else dict(within=RETRY)
+    steps = [prime(P), expect(STX, within=RETRY), send(DLE),
+             expect(body(P, p), within="CDT", note="the tester stays silent" if timeout else "")] + answer
+    readings = ["A12"] if timeout else ["A8"]
+    if p.transmission_attempts >= 2:
+        steps += [expect(STX, note="the repetition", **window)] + echo_send(P, p)[1:]
+        title += ": the IUT repeats it from STX" + (" after ADT, not before" if timeout else "")
+        rule += ": the sender begins again with STX (first repetition: 16#0701)."
+        iut, sent = ((), list(codes) + ["16#0701"]), [P]
+    else:
+        steps += [expect(NAK, note="transmission_attempts = 1: the sender's NAK, no repetition", **window)]
+        title += ": its only attempt (transmission_attempts = 1), so NAK and the job ends"
+        rule += "; with transmission_attempts = 1 there is no other, so the sender sends NAK and gives up (16#070A)."
+        iut, sent = (["|".join(codes + ("16#070A",))], list(codes) + ["16#070A"]), []
+        rules, readings = list(rules) + ["3964.TX.FINAL-NAK"], readings + ["A9"]
+    return case(p, id, title, ref, rule, group, "sender", steps, iut=iut, delivered=[P], sent=sent, requires=ECHO,
+                readings=readings, provenance=provenance, rules=rules)
 
 
 def _mixed(p):

@@ -16,16 +16,22 @@ def _echo_case(p, id, title, payload, rule, rules, ref=SEND_REF, max_gap=None, p
 
 def _interrupted(p, id, title, ref, rule, stimulus, rules, *, note, readings=("A7",), quiet=None, stop_after="-20*CHAR"):
     """The IUT sends a 64-byte block; after its first 10 data bytes the tester sends
-    ``stimulus`` (steps); the IUT stops, waits for CDT of quiet, sends NAK and begins again."""
+    ``stimulus`` (steps); the IUT stops, waits for CDT of quiet, sends NAK and begins again;
+    with ``transmission_attempts = 1`` that NAK ends the job (Fig. 2-10 'W > 6'; one NAK, A6)."""
     L = long_payload(p)
     rest = body(L, p)[10:]
     steps = ([prime(L), expect(STX, within=RETRY), send(DLE), expect(L[:10], within="CDT", note="the first 10 data bytes")]
              + stimulus
              + [expect(rest, partial=True, after=stop_after, within="4*CHAR", note="the IUT stops")]
-             + (quiet or [nak_after_cdt(since="sent")])
-             + [expect(STX, within=RETRY, note="a new attempt")] + echo_send(L, p)[1:])
-    return case(p, id, title, ref, rule, "send", "sender", steps,
-                iut=((), ["16#0704", "16#0701", "16#080C"]), delivered=[L], sent=[L], requires=ECHO,
+             + (quiet or [nak_after_cdt(since="sent")]))
+    if p.transmission_attempts >= 2:
+        steps += [expect(STX, within=RETRY, note="a new attempt")] + echo_send(L, p)[1:]
+        iut, sent = ((), ["16#0704", "16#0701", "16#080C"]), [L]
+    else:
+        title += " (transmission_attempts = 1: that NAK ends the job)"
+        iut, sent = (["16#0704|16#070A"], ["16#0704", "16#080C", "16#070A"]), []
+        readings = tuple(readings) + ("A6",)
+    return case(p, id, title, ref, rule, "send", "sender", steps, iut=iut, delivered=[L], sent=sent, requires=ECHO,
                 readings=list(readings), provenance="[S][I]", rules=rules, notes=note)
 
 
@@ -64,30 +70,20 @@ def cases(p):
                               provenance="[I]"))
     # connection setup
     out += [
-        case(p, "SEND.SETUP-REFUSED-BY-NAK", "STX answered by NAK: a new STX, then the block",
-             "§2.2.2 Send/setup; Fig. 2-10 'any character except DLE, STX'; Table 8-1 16#0702",
-             "A NAK in answer to STX is a failed setup attempt: the sender sends STX again (no guard time is set: A8).",
-             "send", "sender",
-             [prime(P), expect(STX, within=RETRY), send(NAK, note="refused"),
-              expect(STX, within=RETRY, note="a new setup attempt")]
-             + echo_send(P, p)[1:], iut=((), ["16#0702"]), delivered=[P], sent=[P], requires=ECHO,
-             readings=["A8"], provenance="[S]", rules=["3964.TX.SETUP-REFUSED"]),
-        case(p, "SEND.SETUP-REFUSED-BY-OTHER", "STX answered by another character: a new STX",
-             "§2.2.2 Send/setup; Fig. 2-10 'any character except DLE, STX'; Table 8-1 16#0702",
-             "Any character other than DLE or STX in answer to STX is a failed setup attempt.",
-             "send", "sender",
-             [prime(P), expect(STX, within=RETRY), send("41", note="not DLE"),
-              expect(STX, within=RETRY, note="a new setup attempt")]
-             + echo_send(P, p)[1:], iut=((), ["16#0702"]), delivered=[P], sent=[P], requires=ECHO,
-             readings=["A8"], provenance="[S]", rules=["3964.TX.SETUP-REFUSED"]),
-        case(p, "SEND.SETUP-TIMEOUT-RETRY", "No answer to STX: a new STX after ADT, not before",
-             "§2.2.2 Send/setup; Fig. 2-10 'T > T_ADT'; Table 8-1 16#0703",
-             "When no DLE comes within ADT the sender repeats STX; it does not give up early.",
-             "send", "sender",
-             [prime(P), expect(STX, within=RETRY, note="the tester stays silent"),
-              expect(STX, after="ADT", within="ADT + 2*CHAR", note="the next STX, ADT later")]
-             + echo_send(P, p)[1:], iut=((), ["16#0703"]), delivered=[P], sent=[P], requires=ECHO,
-             provenance="[S]", rules=["3964.TX.SETUP-TIMEOUT"]),
+        _setup_failed(p, "SEND.SETUP-REFUSED-BY-NAK", "STX answered by NAK",
+                      "§2.2.2 Send/setup; Fig. 2-10 'any character except DLE, STX'; Table 8-1 16#0702",
+                      "A NAK in answer to STX is a failed setup attempt: the sender sends STX again (no guard time is set: A8)",
+                      "send", [send(NAK, note="refused")], "16#0702", provenance="[S]",
+                      rules=["3964.TX.SETUP-REFUSED"]),
+        _setup_failed(p, "SEND.SETUP-REFUSED-BY-OTHER", "STX answered by another character",
+                      "§2.2.2 Send/setup; Fig. 2-10 'any character except DLE, STX'; Table 8-1 16#0702",
+                      "Any character other than DLE or STX in answer to STX is a failed setup attempt",
+                      "send", [send("41", note="not DLE")], "16#0702", provenance="[S]",
+                      rules=["3964.TX.SETUP-REFUSED"]),
+        _setup_failed(p, "SEND.SETUP-TIMEOUT-RETRY", "No answer to STX within ADT",
+                      "§2.2.2 Send/setup; Fig. 2-10 'T > T_ADT'; Table 8-1 16#0703",
+                      "When no DLE comes within ADT the setup attempt has failed; the sender does not give up on it early",
+                      "send", [], "16#0703", timeout=True, provenance="[S]", rules=["3964.TX.SETUP-TIMEOUT"]),
         case(p, "SEND.SETUP-ATTEMPTS-REFUSED", f"Setup refused {N} times: exactly {N} STX, then one NAK",
              "§2.2.2 Send/setup; Fig. 2-10 'X+1', 'X > 6', 'send NAK'; Table 2-4 setup attempts; Table 8-1 16#0709",
              "The sender makes exactly 'setup attempts' connection setups and then sends NAK and gives up (16#0709).",
@@ -106,14 +102,11 @@ def cases(p):
              iut=(["16#0703|16#0709"], ()), delivered=[P], requires=ECHO, readings=["A9"], provenance="[S][F]",
              rules=["3964.TX.SETUP-ATTEMPTS", "3964.TX.SETUP-FINAL-NAK"]),
         _mixed_setup(p, P),
-        case(p, "SEND.SETUP-CHARACTER-ERROR", "STX answered by a character with a parity error: a new STX",
-             "Fig. 2-10 'invalid character'; Table 8-1 16#080C",
-             "A corrupted character in answer to STX is a failed setup attempt.",
-             "character-error", "sender",
-             [prime(P), expect(STX, within=RETRY), send_error("10", note="DLE with a parity error"),
-              expect(STX, within=RETRY)]
-             + echo_send(P, p)[1:], iut=((), ["16#080C", "16#0702"]), delivered=[P], sent=[P], requires=ECHO,
-             readings=["A8"], provenance="[F]", rules=["3964.TX.SETUP-CHARACTER-ERROR"]),
+        _setup_failed(p, "SEND.SETUP-CHARACTER-ERROR", "STX answered by a character with a parity error",
+                      "Fig. 2-10 'invalid character'; Table 8-1 16#080C",
+                      "A corrupted character in answer to STX is a failed setup attempt",
+                      "character-error", [send_error("10", note="DLE with a parity error")], "16#080C",
+                      also=("16#0702",), provenance="[F]", rules=["3964.TX.SETUP-CHARACTER-ERROR"]),
     ]
     if M >= 2:
         B = body(P, p)
@@ -131,16 +124,7 @@ def cases(p):
     L = long_payload(p)
     rest = body(L, p)[10:]
     out += [
-        case(p, "SEND.NAK-DURING-DATA", "NAK during the data: the IUT stops, sends no NAK, starts again with STX",
-             "§2.2.2 Sending data; Table 8-1 16#0704, 16#0701",
-             "A NAK received while sending the block cancels it; the sender starts a new attempt with STX and sends no NAK of its own.",
-             "send", "sender",
-             [prime(L), expect(STX, within=RETRY), send(DLE), expect(L[:10], within="CDT", note="the first 10 data bytes"),
-              send(NAK, note="NAK in the middle of the block"),
-              expect(rest, partial=True, after="-20*CHAR", within="4*CHAR", note="the IUT stops"),
-              expect(STX, within=RETRY, note="new STX, no NAK before it")] + echo_send(L, p)[1:],
-             iut=((), ["16#0704", "16#0701"]), delivered=[L], sent=[L], requires=ECHO, readings=["A8"],
-             provenance="[S]", rules=["3964.TX.DATA-NAK"]),
+        _nak_during_data(p),
         _interrupted(p, "SEND.OTHER-DURING-DATA", "Another character during the data: stop, quiet for CDT, NAK, new STX",
                      "§2.2.2 Sending data; Table 8-1 16#0704",
                      "A character received while sending stops the block; the sender waits until CDT has passed, sends NAK, then STX.",
@@ -180,6 +164,57 @@ def cases(p):
              provenance="[S][I]", rules=["3964.TX.ATTEMPTS", "3964.TX.FINAL-NAK"]),
     ]
     return out
+
+
+def _nak_during_data(p):
+    """NAK in the middle of the IUT's block: it stops and, with transmission attempts left,
+    begins again with STX and no NAK of its own; with ``transmission_attempts = 1`` it sends NAK
+    and gives up (16#070A; Fig. 2-10 'W > 6', 'send NAK')."""
+    L = long_payload(p)
+    rest = body(L, p)[10:]
+    steps = [prime(L), expect(STX, within=RETRY), send(DLE), expect(L[:10], within="CDT", note="the first 10 data bytes"),
+             send(NAK, note="NAK in the middle of the block"),
+             expect(rest, partial=True, after="-20*CHAR", within="4*CHAR", note="the IUT stops")]
+    title = "NAK during the data: the IUT stops, "
+    if p.transmission_attempts >= 2:
+        steps += [expect(STX, within=RETRY, note="new STX, no NAK before it")] + echo_send(L, p)[1:]
+        title += "sends no NAK, starts again with STX"
+        iut, sent, rules = ((), ["16#0704", "16#0701"]), [L], ["3964.TX.DATA-NAK"]
+    else:
+        steps += [expect(NAK, within=RETRY, note="transmission_attempts = 1: the sender's NAK, no new STX")]
+        title += "its only attempt (transmission_attempts = 1): NAK, the job ends"
+        iut, sent, rules = (["16#0704|16#070A"], ["16#0704", "16#070A"]), [], ["3964.TX.DATA-NAK", "3964.TX.FINAL-NAK"]
+    return case(p, "SEND.NAK-DURING-DATA", title, "§2.2.2 Sending data; Table 8-1 16#0704, 16#0701, 16#070A",
+                "A NAK received while sending the block cancels it; the sender starts a new attempt with STX and sends "
+                "no NAK of its own, or, with no attempt left, sends NAK and gives up.",
+                "send", "sender", steps, iut=iut, delivered=[L], sent=sent, requires=ECHO, readings=["A8"],
+                provenance="[S]", rules=rules)
+
+
+def _setup_failed(p, id, title, ref, rule, group, answer, code, *, also=(), timeout=False, provenance, rules):
+    """One setup attempt fails by ``answer`` (the tester's steps after the IUT's STX; none: no
+    answer within ADT). With setup attempts left (Table 2-4) the IUT sends a new STX and the
+    block; with ``setup_attempts = 1`` that was its only attempt (Fig. 2-10 'X > 6'): it sends
+    NAK and gives up (16#0709), and the case checks that instead."""
+    P = PLAIN
+    window = dict(after="ADT", within="ADT + 2*CHAR") if timeout else dict(within=RETRY)
+    codes = (code,) + tuple(also)
+    steps = [prime(P), expect(STX, within=RETRY, note="the tester stays silent" if timeout else "")] + answer
+    if p.setup_attempts >= 2:
+        steps += [expect(STX, note="a new setup attempt" + (", ADT later" if timeout else ""), **window)]
+        steps += echo_send(P, p)[1:]
+        title += ": a new STX" + (" after ADT, not before" if timeout else "") + ", then the block"
+        rule += ": the sender tries again with STX."
+        iut, sent = ((), list(codes)), [P]
+    else:
+        steps += [expect(NAK, note="setup_attempts = 1: the sender's NAK, no new STX", **window)]
+        title += ": its only setup attempt (setup_attempts = 1), so NAK and the job ends"
+        rule += "; with setup_attempts = 1 there is no other, so the sender sends NAK and gives up (16#0709)."
+        iut, sent = (["|".join(codes + ("16#0709",))], list(codes) + ["16#0709"]), []
+        rules = list(rules) + ["3964.TX.SETUP-FINAL-NAK"]
+    readings = ([] if timeout else ["A8"]) + ([] if sent else ["A9"])
+    return case(p, id, title, ref, rule, group, "sender", steps, iut=iut, delivered=[P], sent=sent,
+                requires=ECHO, readings=readings, provenance=provenance, rules=rules)
 
 
 def _mixed_setup(p, P):

@@ -226,6 +226,20 @@ class Ctx:
     def pattern_known(self) -> bool:
         return self.p.memory == "pattern"
 
+    @property
+    def fw(self) -> int:
+        """The data words of the small FETCH that header checks send with one field wrong:
+        3 (6 bytes, as Example 3), or the whole DB where it is smaller, so that every other
+        field of the frame is valid for the profile's memory."""
+        return min(3, self.p.db_bytes // 2)
+
+    @property
+    def pause(self) -> str:
+        """How long the tester keeps silent where it checks that the IUT sends nothing
+        unprompted while it waits for the tester (its T_RES running): 2 ADT, or half the
+        shortest T_RES it may have where that is shorter (a long ADT would outlast it)."""
+        return "2*ADT" if 2 * self.p.adt <= 0.5 * self.p.t_res_min else "0.5*TRES_MIN"
+
 
 def case(c: Ctx, id: str, title: str, reference: str, rule: str, group: str, role: str,
          steps: list[Step], *, iut=((), ()), requests=(), results=(), needs=None, setup=None,

@@ -31,6 +31,15 @@ from ._build import (
 TABLE_8_3 = {0x0A: "16#0905", 0x0C: "16#0902", 0x10: "16#090B", 0x12: "16#0904", 0x14: "16#0903",
              0x16: "16#090A", 0x2A: "16#090D", 0x32: "16#0909", 0x34: "16#090C", 0x36: "16#0908"}
 UNKNOWN = "16#090E"
+#: A-11: the invalid requests of the local checks (their names as the profile's
+#: ``inexpressible_requests`` gives them), the script line and the events that may report it
+LOCAL_CHECKS = (
+    ("len-1025", "send DB10:DW0:LEN=1025", ("16#0517", "16#1E41"), "a length over 1024 bytes"),
+    ("len-0", "fetch DB10:DW0:LEN=0", ("16#1E41", "16#0517"), "a length of 0"),
+    ("db-0", "send DB0:DW0:LEN=2", ("16#0514", "16#0301"), "DB 0"),
+    ("flag-bit-8", "send DB10:DW0:LEN=2:CF=3.8", ("16#0515",), "a coordination-flag bit over 7"),
+    ("cpu-5", "send DB10:DW0:LEN=2:CPU=5", ("16#0516",), "a CPU number over 4"),
+    ("send-to-flags", "send M:0:LEN=2", ("16#0301",), "a SEND to the flags (not a DB or DX)"))
 
 
 def _data(n: int, seed: int = 0x10) -> bytes:
@@ -39,9 +48,9 @@ def _data(n: int, seed: int = 0x10) -> bytes:
 
 
 def _active(c, cid, title, ref, rule, group, lines, steps, results, *, iut=((), ()), readings=(),
-            provenance="[S]", timing_sensitive=False, role="sender"):
+            provenance="[S]", timing_sensitive=False, role="sender", needs=None):
     return case(c, cid, title, ref, rule, group, role, steps, iut=iut, requests=lines, results=results,
-                readings=readings, provenance=provenance, timing_sensitive=timing_sensitive)
+                readings=readings, provenance=provenance, timing_sensitive=timing_sensitive, needs=needs)
 
 
 def _send_exchange(frames: list[bytes]) -> list:
@@ -137,23 +146,19 @@ def commands(c):
             "active-command", [line], _fetch_exchange(hdr, data),
             [fetched(label(line), stored if stored is not None else data), ok(label(line))],
             readings=["AMB-01", "AMB-14"] if hdr[3] in b"EAMTZ" else [], provenance="[S][F][I]"))
-    # requests the FB or the CP refuses never reach the wire
-    bad = [("send DB10:DW0:LEN=1025", ("16#0517", "16#1E41")),
-           ("send DB0:DW0:LEN=2", ("16#0514", "16#0301")),
-           ("send DB10:DW0:LEN=2:CF=3.8", ("16#0515",)),
-           ("send DB10:DW0:LEN=2:CPU=5", ("16#0516",)),
-           ("send M:0:LEN=2", ("16#0301",)),
-           ("fetch DB10:DW0:LEN=0", ("16#1E41", "16#0517"))]
+    # requests the FB or the CP refuses never reach the wire, one case per invalid
+    # parameter (an IUT whose interface cannot express one says so in its profile)
     good = "send DB10:DW0:LEN=2:DATA=0102"
-    out.append(_active(
-        c, "A-11.LOCAL-CHECKS", "Requests with invalid parameters or over 1 KB never reach the wire",
-        "§6.3.2 Tables 6-4, 6-6; §8.3 Table 8-1 16#0514, 16#0515, 16#0516, 16#0517, 16#0301; Table 8-2 16#1E41",
-        "The requester checks its parameters before it sends: a length over 1024 or 0, DB 0, a flag bit over 7, a CPU over 4 or a SEND to a non-DB area fail locally, nothing on the wire.",
-        "active-command", [x for x, _ in bad] + [good],
-        _send_exchange([header("A", "D", 10, 0, 1) + b"\x01\x02"]),
-        [failed(label(x), *codes) for x, codes in bad] + [ok(label(good))],
-        iut=(["16#0517|16#1E41", "16#0514|16#0301", "16#0515", "16#0516", "16#0301"], []),
-        readings=["N5", "N6"], provenance="[S][I]"))
+    for name, line, codes, what in LOCAL_CHECKS:
+        out.append(_active(
+            c, f"A-11.LOCAL-CHECK-{name.upper()}", f"A request with {what} fails locally, nothing on the wire",
+            "§6.3.2 Tables 6-4, 6-6; §8.3 Table 8-1 " + ", ".join(x for x in codes if x.startswith("16#05"))
+            + ("; Table 8-2 16#1E41" if "16#1E41" in codes else "") + ("; 16#0301" if "16#0301" in codes else ""),
+            f"The requester checks its parameters before it sends: a request with {what} fails with "
+            f"{' or '.join(codes)} and puts nothing on the wire; the next valid request goes out as usual.",
+            "active-command", [line, good], _send_exchange([header("A", "D", 10, 0, 1) + b"\x01\x02"]),
+            [failed(label(line), *codes), ok(label(good))], iut=(["|".join(codes)], []), readings=["N5", "N6"],
+            needs={"expressible": name}, provenance="[S][I]"))
     return out
 
 
@@ -233,6 +238,7 @@ def responses(c):
         [failed(label(fetch6), "16#0903")], iut=(["16#0903"], []), provenance="[S][I]"))
     # quasi-full-duplex - the tester's own SEND while the IUT waits for its response
     theirs = header("A", "D", c.db_w, 0, 2) + bytes([0x21, 0x22, 0x23, 0x24])
+    theirs_needs = {"db": [c.db_w], "db_bytes": 4}
     out.append(_active(
         c, "A-08.TESTER-SEND-BEFORE-RESPONSE", "While the IUT waits for its response the tester SENDs: answered, then the response is taken",
         "§2.2.3 'Quasi-full-duplex', Fig. 2-17; §6.3.2 'Parallel processing of requests'",
@@ -240,7 +246,7 @@ def responses(c):
         "quasi-full-duplex", [one],
         [receive(one_f, within="STARTUP"), prime(theirs, note="the tester's own SEND first"), receive(resp(0)),
          prime(resp(0), note="then the answer to the IUT's SEND")],
-        [ok(label(one))], role="both", provenance="[S][F]"))
+        [ok(label(one))], role="both", needs=theirs_needs, provenance="[S][F]"))
     three = "send DB10:DW0:LEN=300"
     f3 = send_frames(header("A", "D", 10, 0, 150), _data(300))
     out.append(_active(
@@ -253,7 +259,7 @@ def responses(c):
          receive(resp(0), note="the IUT answers it"),
          prime(resp(0, first=False), note="the held-back continuation response (frame 5)"),
          receive(f3[2], note="the IUT's 2nd continuation"), prime(resp(0, first=False))],
-        [ok(label(three))], role="both", provenance="[F]"))
+        [ok(label(three))], role="both", needs=theirs_needs, provenance="[F]"))
     return out
 
 

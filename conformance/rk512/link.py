@@ -45,7 +45,7 @@ def cases(c):
         "RK 512 characters carry 8 data bits: bytes with bit 7 set are sent, stored and fetched back unchanged.",
         "link", "receiver",
         tester_send(header("A", "D", w, 0, 4), hi) + tester_fetch(header("E", "D", w, 0, 4), hi),
-        needs={"db": [w]}, provenance="[S]"))
+        needs={"db": [w], "db_bytes": 8}, provenance="[S]"))
 
     # L-02: DLE doubling in the header, the data, a REATEL and a BCC (Example 5/6)
     d16 = bytes([0x10, 0x20, 0x30, 0x10]) * 8
@@ -95,7 +95,7 @@ def cases(c):
             "link", "receiver",
             write + [send([STX]), expect([DLE]), send(bad, note="the SEND with its BCC inverted"),
                      expect([NAK], note="NAK: BCC error"), silence("2*ADT", note="no response follows")] + back,
-            iut=(["16#0808"], OPT_REPEAT), needs={"db": [w]}, provenance="[S]"))
+            iut=(["16#0808"], OPT_REPEAT), needs={"db": [w], "db_bytes": 4}, provenance="[S]"))
         out.append(case(
             c, "L-04.REPEAT-AFTER-NAK", "The block repeated after the NAK: accepted and answered exactly once",
             "§2.2.2 'Receive release', Fig. 2-12 (repetition within the block wait time); §2.2.3 'Response message frame'",
@@ -105,7 +105,7 @@ def cases(c):
              expect([DLE]), send(good), expect([DLE]), receive(resp(0)),
              silence("2*ADT", note="no second response")]
             + tester_fetch(header("E", "D", w, 0, 2), other),
-            iut=(["16#0808"], OPT_REPEAT), needs={"db": [w]}, provenance="[S]"))
+            iut=(["16#0808"], OPT_REPEAT), needs={"db": [w], "db_bytes": 4}, provenance="[S]"))
     gap_body = link.body(bad_frame, p.procedure)
     out.append(case(
         c, "L-06.GAP-OVER-CDT", "A pause longer than CDT inside a SEND block: NAK, no response, nothing written",
@@ -116,7 +116,7 @@ def cases(c):
                  expect([NAK], after="CDT", within="CDT + 2*CHAR", since="previous",
                         note="NAK once CDT has passed"),
                  silence("2*ADT", note="no response follows")] + back,
-        iut=(["16#0806"], OPT_REPEAT), needs={"db": [w]}, provenance="[S]"))
+        iut=(["16#0806"], OPT_REPEAT), needs={"db": [w], "db_bytes": 4}, provenance="[S]"))
 
     big = bytes([0x10, 0x41]) * 64
     out.append(case(
@@ -143,6 +143,7 @@ def cases(c):
                  prime(resp(0), note="the tester answers the IUT's SEND")]
         rule = ("In an initialization conflict the low-priority station answers the partner's STX with DLE, "
                 "takes its block and sends its own afterwards.")
+        needs = {"db": [w], "db_bytes": 20, "setup_attempts": 2}
     else:
         steps = [expect([STX], within="STARTUP", note="the IUT's STX for its SEND"),
                  send([STX], note="the tester's STX crosses it"),
@@ -153,10 +154,11 @@ def cases(c):
                  prime(resp(0), note="the tester answers the IUT's SEND")]
         rule = ("In an initialization conflict the high-priority station ignores the partner's STX and waits for "
                 "its DLE; the partner sends its block afterwards.")
+        needs = {"db": [w], "db_bytes": 20}
     out.append(case(
         c, f"L-05.CONFLICT-IUT-{p.priority.upper()}", f"Crossing STX with the IUT {p.priority} priority, over RK 512 frames",
         "§2.2.2 'Initialization conflict', Fig. 2-8; §2.3.1 Table 2-5; §2.2.3 'Quasi-full-duplex', Fig. 2-17",
         rule, "link", "both", steps, requests=[f"send DB{w}:DW0:LEN=4:DATA=01020304"], results=[f"RESULT {label} OK"],
-        iut=((), ["16#0702", "16#0701"]), needs={"db": [w]}, readings=["AMB-31"], timing_sensitive=True,
+        iut=((), ["16#0702", "16#0701"]), needs=needs, readings=["AMB-31"], timing_sensitive=True,
         provenance="[S][F]"))
     return out

@@ -27,7 +27,7 @@ def cases(c):
         return []
     b9, b10 = FLAG[0], 0x10 | FLAG[1]
     send_cf = header("A", "D", w, 0, 2, b9=b9, b10=b10) + seq_data(4)
-    fetch_cf = header("E", "D", c.db, 0, 3, b9=b9, b10=b10)
+    fetch_cf = header("E", "D", c.db, 0, c.fw, b9=b9, b10=b10)
     hold = reset_ms(p, send_cf, resp(0x32), fetch_cf, resp(0x32))
     flag = {"name": "flag_set", "flag": f"{FLAG[0]}.{FLAG[1]}", "reset_ms": hold}
     out = [
@@ -37,7 +37,7 @@ def cases(c):
              "passive-cpu", "receiver",
              [prime(send_cf), receive(resp(0x32)), prime(fetch_cf), receive(resp(0x32))],
              iut=(["16#060F"], []), setup=("flag_set", {k: v for k, v in flag.items() if k != "name"}),
-             needs={"db": [w, c.db]}, readings=["AMB-07"], provenance="[S][I]"),
+             needs={"db": [w, c.db], "db_bytes": 4}, readings=["AMB-07"], provenance="[S][I]"),
         case(c, "P-11.FLAG-RESET-ALLOWS", "Once the flag is reset the SEND goes through, and the IUT sets the flag again",
              "§6.3.2 'Using interprocessor communication flags'; §8.3 Table 8-1 16#060F",
              "After the user program resets the flag a request naming it is served; the transfer sets the flag, so a second one at once gets 32h.",
@@ -46,13 +46,13 @@ def cases(c):
               prime(send_cf), receive(resp(0x32), alternatives=[resp(0)], alt_grade="informational",
                                       note="the flag set by the transfer (a reading) refuses it")],
              iut=((), ["16#060F"]), setup=("flag_set", {k: v for k, v in flag.items() if k != "name"}),
-             needs={"db": [w]}, readings=["AMB-07", "AMB-08"], provenance="[S][I]"),
+             needs={"db": [w], "db_bytes": 4}, readings=["AMB-07", "AMB-08"], provenance="[S][I]"),
         case(c, "P-12.CPU-STOP", "The partner CPU in STOP: every SEND and FETCH gets 2Ah",
              "§7.3; §8.3 Table 8-1 16#060D; Table 8-3 (2Ah)",
              "A command that arrives while the CPU is in STOP is refused with REATEL 2Ah (16#060D).",
              "passive-cpu", "receiver",
              [prime(header("A", "D", w, 0, 2) + seq_data(4)), receive(resp(0x2A)),
-              prime(header("E", "D", c.db, 0, 3)), receive(resp(0x2A))],
-             iut=(["16#060D"], []), setup=("cpu_stop", {}), needs={"db": [w, c.db]}, provenance="[S]"),
+              prime(header("E", "D", c.db, 0, c.fw)), receive(resp(0x2A))],
+             iut=(["16#060D"], []), setup=("cpu_stop", {}), needs={"db": [w, c.db], "db_bytes": 4}, provenance="[S]"),
     ]
     return out

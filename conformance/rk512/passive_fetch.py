@@ -122,6 +122,6 @@ def cases(c):
             "passive-fetch", "receiver",
             served_or_refused(c.p, "X", 6, header("E", "X", c.dx, 0, 3),
                               [prime(header("E", "X", c.dx, 0, 3)), receive(resp(0, data=pattern("X", c.dx, 0, 6)))])[0],
-            iut=((), ["16#0606", "16#0604", "16#0607"]), needs={"dx": [c.dx], "pattern": True},
+            iut=((), ["16#0606", "16#0604", "16#0607"]), needs={"dx": [c.dx], "db_bytes": 6, "pattern": True},
             readings=["AMB-20"], provenance="[S][O]"))
     return out

@@ -32,7 +32,7 @@ def cases(c):
             c, f"P-07A.BYTE1-{b1:02X}", f"Command byte 1 = {b1:02X}h: REATEL 10h",
             "§2.2.3 Table 2-1 (byte 1 00h/FFh); " + REF_06.format(code="16#0601", reatel=0x10),
             "A command whose byte 1 is neither 00h nor FFh is refused with REATEL 10h (16#0601); the response's byte 1 is 00h (there is no frame id to mirror).",
-            header("E", "D", d, 0, 3, b1=b1), 0x10, "16#0601", alternatives=[resp(0x10, first=False)],
+            header("E", "D", d, 0, c.fw, b1=b1), 0x10, "16#0601", alternatives=[resp(0x10, first=False)],
             readings=["N1"], needs=db))
     # b: byte 3 not a command letter
     for b3, what in ((0x43, "'C'"), (0x61, "'a'")):
@@ -40,21 +40,21 @@ def cases(c):
             c, f"P-07B.BYTE3-{b3:02X}", f"Command byte 3 = {what}: REATEL 16h",
             "§2.2.3 Table 2-1 (A, O, E); " + REF_06.format(code="16#0602", reatel=0x16),
             "A command letter other than A, O or E is refused with REATEL 16h (16#0602).",
-            header(b3, "D", d, 0, 3), 0x16, "16#0602", needs=db, readings=["AMB-04"]))
+            header(b3, "D", d, 0, c.fw), 0x16, "16#0602", needs=db, readings=["AMB-04"]))
     out.append(case(
         c, "P-07B.BYTE3-00", "Command byte 3 = 00h: the frame reads as a response; what the IUT does is recorded",
         "§2.2.3 Tables 2-1, 2-2 (byte 3 00h in responses); Table 8-1 16#0602, 16#0A01",
         "A first frame whose byte 3 is 00h is a response by its header; the IUT may take it as an unsolicited response (no answer) or refuse it with REATEL 16h.",
         "passive-header", "receiver",
-        [prime(header(0x00, "D", d, 0, 3)),
+        [prime(header(0x00, "D", d, 0, c.fw)),
          receive(resp(0x16), optional=True, absent_grade="pass", alternatives=[resp(0x10)],
                  alt_grade="informational", note="an answer is not required")],
         iut=((), ["16#0A01", "16#0602", "16#0601", "16#0610", "16#0A03"]), readings=["AMB-13"], provenance="[I]"))
     # c: byte 4 not a type, or a pair the receiver does not allow
     dx_w = c.dx_w or 1
     for cmd, typ, what, frame, alt, amb in (
-            ("E", 0x51, "FETCH with type 'Q' (51h)", header("E", 0x51, d, 0, 3), None, None),
-            ("E", 0x64, "FETCH with type 'd' (64h, lower case)", header("E", 0x64, d, 0, 3), None, None),
+            ("E", 0x51, "FETCH with type 'Q' (51h)", header("E", 0x51, d, 0, c.fw), None, None),
+            ("E", 0x64, "FETCH with type 'd' (64h, lower case)", header("E", 0x64, d, 0, c.fw), None, None),
             ("A", "M", "SEND to flags ('A' 'M')", header("A", "M", 0, 0, 4) + seq_data(4), None, None),
             ("E", 0x43, "FETCH of 3 counters with 'C' (43h) instead of 'Z' (5Ah)", header("E", 0x43, 0, 0, 3),
              resp(0, data=pattern("Z", 0, 0, 6)) if known else None, "AMB-01"),
@@ -140,14 +140,14 @@ def cases(c):
             c, f"P-07G.FLAG-BIT-{b10 & 0xF}", f"FETCH naming flag byte 0, {what}: REATEL 0Ch",
             "§2.2.3 Table 2-1 (byte 10, bits 0-3: 0..7); " + REF_06.format(code="16#0609", reatel=0x0C),
             "A coordination-flag bit number above 7 is refused with REATEL 0Ch (16#0609).",
-            header("E", "D", d, 0, 3, b9=0x00, b10=b10), 0x0C, "16#0609", needs=db))
-    served = resp(0, data=pattern("D", d, 0, 6)) if known else None
+            header("E", "D", d, 0, c.fw, b9=0x00, b10=b10), 0x0C, "16#0609", needs=db))
+    served = resp(0, data=pattern("D", d, 0, 2 * c.fw)) if known else None
     for b10 in (0x5F, 0xEF):
         out.append(_refuse(
             c, f"P-07H.CPU-{b10 >> 4:X}", f"FETCH for CPU {b10 >> 4:X}h (byte 10 = {b10:02X}h): REATEL 0Ch",
             "§2.2.3 Table 2-1 (byte 10, bits 4-7: CPU 1..4); §6.3.2 Table 6-4; " + REF_06.format(code="16#060A", reatel=0x0C),
             "A CPU number that is not permitted (5..E) is refused with REATEL 0Ch (16#060A).",
-            header("E", "D", d, 0, 3, b10=b10), 0x0C, "16#060A", needs=db, alternatives=[served] if served else (),
+            header("E", "D", d, 0, c.fw, b10=b10), 0x0C, "16#060A", needs=db, alternatives=[served] if served else (),
             strict=served is None, readings=["AMB-22"], provenance="[S][I]"))
     # i: SEND data count against the header
     for n in (8, 12):
@@ -155,28 +155,29 @@ def cases(c):
             c, f"P-07I.SEND-{n}-FOR-10", f"SEND announcing 10 bytes (5 words) with {n}: REATEL 34h",
             "§2.2.3 'Sending data'; " + REF_06.format(code="16#060B", reatel=0x34),
             "A SEND frame with more or fewer data bytes than its header announces is refused with REATEL 34h (16#060B), nothing stored.",
-            header("A", "D", w, 0, 5) + seq_data(n), 0x34, "16#060B", needs={"db": [w]},
+            header("A", "D", w, 0, 5) + seq_data(n), 0x34, "16#060B", needs={"db": [w], "db_bytes": 10},
             extra_optional=["16#0611"]))
     first = header("A", "D", w, 0, 100) + seq_data(128)
     pre = [prime(first), receive(resp(0))]
+    send200 = {"db": [w], "db_bytes": 200}     # the SEND of 200 bytes must fit the DB
     out.append(_refuse(
         c, "P-07I.CONTINUATION-70-FOR-72", "SEND of 200 bytes whose continuation carries 70 instead of 72: REATEL 34h",
         "§2.2.3 Fig. 2-14; " + REF_06.format(code="16#0611", reatel=0x34),
         "A continuation with a data count that does not complete the announced length is refused with REATEL 34h (16#0611 or 16#060B) in a continuation response.",
-        cont("A", "D", seq_data(70, 0x80)), 0x34, "16#0611|16#060B", pre=pre, first=False, needs={"db": [w]},
+        cont("A", "D", seq_data(70, 0x80)), 0x34, "16#0611|16#060B", pre=pre, first=False, needs=send200,
         readings=["N3"]))
     out.append(_refuse(
         c, "P-07I.FIRST-FRAME-SHORT", "SEND of 200 bytes whose first frame carries 100: refused (128 expected)",
         "§2.2.3 Figs. 2-13, 2-14 (the first continuation starts with byte 129); " + REF_06.format(code="16#060B", reatel=0x34),
         "Every frame but the last carries 128 data bytes; a first frame with fewer is refused with REATEL 34h (16#060B).",
         header("A", "D", w, 0, 100) + seq_data(100), 0x34, "16#060B", alternatives=[resp(0)], strict=False,
-        needs={"db": [w]}, readings=["AMB-16"], provenance="[I]"))
+        needs=send200, readings=["AMB-16"], provenance="[I]"))
     # j: FETCH with data
     out.append(_refuse(
         c, "P-07J.FETCH-WITH-DATA", "FETCH command with 2 trailing data bytes: REATEL 34h",
         "§2.2.3 'Receiving data' (no user data in a FETCH); " + REF_06.format(code="16#060C", reatel=0x34),
         "A FETCH command carries no data; one that does is refused with REATEL 34h (16#060C).",
-        header("E", "D", d, 0, 3) + b"\x01\x02", 0x34, "16#060C", needs=db, readings=["AMB-06"]))
+        header("E", "D", d, 0, c.fw) + b"\x01\x02", 0x34, "16#060C", needs=db, readings=["AMB-06"]))
     fetch200 = header("E", "D", d, 0, 100)
     pre_f = [prime(fetch200), receive(resp(0, data=pattern("D", d, 0, 128)))] if known else None
     if pre_f:
@@ -184,24 +185,24 @@ def cases(c):
             c, "P-06.CONTINUATION-FETCH-WITH-DATA", "A continuation FETCH of 5 bytes: REATEL 34h in a continuation response",
             "§2.2.3 Fig. 2-16 (continuation FETCH FF 00 45 xx); " + REF_06.format(code="16#060C", reatel=0x34),
             "A continuation FETCH is exactly 4 bytes; a longer one is refused with REATEL 34h, the response's byte 1 FFh as the command's (16#060C).",
-            cont("E", "D", b"\x00"), 0x34, "16#060C", pre=pre_f, first=False, needs={**db, "pattern": True}))
+            cont("E", "D", b"\x00"), 0x34, "16#060C", pre=pre_f, first=False, needs={**db, "db_bytes": 200, "pattern": True}))
         out.append(_refuse(
             c, "P-08.FETCH-CONTINUATION-BYTE4", "Continuation FETCH with type 'X' after a first frame of type 'D': REATEL 10h",
             "§2.2.3 Table 2-1 (continuation bytes 3/4 as in the first frame); " + REF_06.format(code="16#0605", reatel=0x10),
             "Bytes 3 and 4 of a continuation must repeat the first frame's; a different byte 4 is refused with REATEL 10h (16#0605).",
-            cont("E", "X"), 0x10, "16#0605", pre=pre_f, first=False, needs={**db, "pattern": True}))
+            cont("E", "X"), 0x10, "16#0605", pre=pre_f, first=False, needs={**db, "db_bytes": 200, "pattern": True}))
     out.append(_refuse(
         c, "P-08.SEND-CONTINUATION-BYTE3", "Continuation with command 'O' after a first frame 'A': REATEL 16h",
         "§2.2.3 Table 2-1; " + REF_06.format(code="16#0603", reatel=0x16),
         "A continuation whose byte 3 differs from the first frame's is refused with REATEL 16h (16#0603).",
-        cont("O", "D", seq_data(72, 0x80)), 0x16, "16#0603", pre=pre, first=False, needs={"db": [w]}))
+        cont("O", "D", seq_data(72, 0x80)), 0x16, "16#0603", pre=pre, first=False, needs=send200))
     out.append(_refuse(
         c, "P-08.SEND-CONTINUATION-BYTE4", "Continuation with type 'X' after a first frame 'D': REATEL 10h",
         "§2.2.3 Table 2-1; " + REF_06.format(code="16#0605", reatel=0x10),
         "A continuation whose byte 4 differs from the first frame's is refused with REATEL 10h (16#0605).",
-        cont("A", "X", seq_data(72, 0x80)), 0x10, "16#0605", pre=pre, first=False, needs={"db": [w]}))
+        cont("A", "X", seq_data(72, 0x80)), 0x10, "16#0605", pre=pre, first=False, needs=send200))
     # k: frames too short for their kind (no REATEL is defined: recorded)
-    for frame, first_, what in ((header("E", "D", d, 0, 3)[:6], True, "a 6-byte command"),
+    for frame, first_, what in ((header("E", "D", d, 0, c.fw)[:6], True, "a 6-byte command"),
                                 (cont("A", "D")[:3], False, "a 3-byte continuation")):
         out.append(case(
             c, f"P-07K.SHORT-{len(frame)}", f"{what.capitalize()}: 16#0610; an answer (34h) or none",
@@ -218,8 +219,8 @@ def cases(c):
             "§2.2.3 Table 2-1 (byte 2 00h); Table 8-1 (no event for byte 2)",
             "No event exists for a byte 2 other than 00h; the IUT may ignore it (and serve the FETCH) or refuse the frame.",
             "passive-header", "receiver",
-            [prime(header("E", "D", d, 0, 3, b2=0x01)),
-             receive(resp(0, data=pattern("D", d, 0, 6)), alternatives=[resp(0x10)], alt_grade="informational")],
+            [prime(header("E", "D", d, 0, c.fw, b2=0x01)),
+             receive(resp(0, data=pattern("D", d, 0, 2 * c.fw)), alternatives=[resp(0x10)], alt_grade="informational")],
             iut=((), ["16#0601"]), readings=["AMB-13"], needs={**db, "pattern": True}, provenance="[O]"))
     # P-17 / P-18: the layout of error responses
     out.append(_refuse(

@@ -14,7 +14,7 @@ def cases(c):
         "A SEND of up to 128 bytes is answered by one response 00 00 00 00 without data, after its data are stored at the DB and data word it names.",
         "passive-send", "receiver",
         tester_send(header("A", "D", w, 0, 5), d10) + tester_fetch(header("E", "D", w, 0, 5), d10),
-        needs={"db": [w]}, provenance="[S][F]"))
+        needs={"db": [w], "db_bytes": 10}, provenance="[S][F]"))
     out.append(case(
         c, "P-01.SEND-1-WORD", "SEND of one byte (LEN 1 = one word, padded with 00h): answered and stored",
         "§2.2.3, Table 2-1 (length in words); §6.3.2 'Important notes' (odd LEN)",
@@ -57,7 +57,7 @@ def cases(c):
         "The responder answers before the requester's T_RES runs out (the profile's response_time_ms; left out, 10 s as the CP 341's prose gives it).",
         "passive-send", "receiver",
         tester_send(header("A", "D", w, 0, 5), d10),
-        needs={"db": [w]}, readings=["AMB-02"], provenance="[F]"))
+        needs={"db": [w], "db_bytes": 10}, readings=["AMB-02"], provenance="[F]"))
     d128b = bytes([0x5A]) * 128
     out.append(case(
         c, "P-18.SEND-RESPONSE-WITHOUT-DATA", "The response to a 128-byte SEND is exactly 4 bytes",
@@ -73,7 +73,7 @@ def cases(c):
             "§2.2.3, Table 2-1 ('O' 4Fh, byte 4 only 'D' when sending); §6.3.2 'Receiving data', Table 6-9",
             "A SEND with command letter O (destination DX) and type D is accepted and answered 00 00 00 00.",
             "passive-send", "receiver", tester_send(header("O", "D", x, 0, 2), dxd),
-            needs={"dx": [x]}, readings=["AMB-03", "AMB-21"], provenance="[S]"))
+            needs={"dx": [x], "db_bytes": 4}, readings=["AMB-03", "AMB-21"], provenance="[S]"))
         for n in (130, 1024):
             data = seq_data(n, 0x33)
             out.append(case(

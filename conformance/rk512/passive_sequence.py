@@ -33,7 +33,7 @@ def cases(c):
          receive(resp(0x36), alternatives=[resp(0)], alt_grade="informational"),
          prime(cont("A", "D", seq_data(72, 0x80)), note="the first request's continuation, too late"),
          receive(resp(0x36, first=False), optional=True, absent_grade="informational")],
-        iut=(["16#060E"], []), readings=["AMB-18"], needs={"db": [w]}, provenance="[F][I]"))
+        iut=(["16#060E"], []), readings=["AMB-18"], needs={"db": [w], "db_bytes": 200}, provenance="[F][I]"))
     if p.priority == "low":
         # the tester (high) sends its next command right after the IUT took the first: the
         # IUT's response STX, if it has already started, yields to the tester's (§2.2.2)
@@ -50,7 +50,8 @@ def cases(c):
              send(link.body(second, p.procedure), note="the second SEND"), expect([DLE]),
              receive(resp(0), alternatives=[resp(0x36)], note="one response to each, in either order"),
              receive(resp(0x36), alternatives=[resp(0)])],
-            iut=(["16#060E"], ["16#0702", "16#0701"]), readings=["AMB-31", "N7"], needs={"db": [w]},
+            iut=(["16#060E"], ["16#0702", "16#0701"]), readings=["AMB-31", "N7"],
+            needs={"db": [w], "db_bytes": 20, "setup_attempts": 2},
             timing_sensitive=True, provenance="[S]"))
     out.append(case(
         c, "P-15.UNSOLICITED-RESPONSE", "A response 00 00 00 00 that answers nothing: taken by the link, not answered",
@@ -83,5 +84,5 @@ def cases(c):
                  receive(resp(0, first=False)),
                  prime(resp(0), note="the tester answers the IUT's SEND")],
                 requests=[f"wait {start_ms}", own], results=[ok(label(own))],
-                needs={"db": [w]}, readings=["AMB-31"], provenance="[F]"))
+                needs={"db": [w], "db_bytes": 130}, readings=["AMB-31"], provenance="[F]"))
     return out

@@ -13,6 +13,7 @@ The specification of the formats, times and line conditions is one document,
 ``hexlog``          the hex log (:func:`read_hexlog`, :func:`write_hexlog`, :class:`HexLogWriter`)
 ``pcap``            pcap, LINKTYPE_RTAC_SERIAL (:func:`read_pcap`, :func:`write_pcap`,
                     :class:`PcapWriter`)
+``timing``          how a capture's times were taken (:class:`Timing`, :func:`run_timing`)
 ``files``           formats by name or extension, :func:`load` and :func:`save`
 
 The line settings a capture carries are :class:`ptpcert.model.line.LineSettings`. This
@@ -29,10 +30,11 @@ from ptpcert.capture.model import (GAPS, LINE_ALIASES, MODEM_LINES, SEATS, WITH_
 from ptpcert.capture.pcap import (EPOCH, EV_CAPTURE_COMPLETE, EV_CAPTURE_DATA_LOST, EV_DATA_RX_END, EV_DATA_RX_START,
                                   EV_DATA_TX_END, EV_DATA_TX_START, EV_FRAMING_ERROR, EV_PARITY_ERROR,
                                   EV_SERIAL_BREAK, EV_SERIAL_OVERFLOW, EV_STATUS_CHANGE, LINKTYPE_RTAC_SERIAL,
-                                  MAX_PAYLOAD, PCAP_MAGIC_NS, PCAP_MAGIC_US, PCAPNG_MAGIC, RTAC_HEADER, SNAPLEN,
-                                  PcapWriter, pcap_bytes, read_pcap, write_pcap)
+                                  MARK_TAG, MAX_PAYLOAD, PCAP_MAGIC_NS, PCAP_MAGIC_US, PCAPNG_MAGIC, RTAC_HEADER,
+                                  SNAPLEN, START_TAG, PcapWriter, pcap_bytes, read_pcap, write_pcap)
 from ptpcert.capture.results_format import (CAPTURE_GROUP, CASE_GAP, RUN_SEATS, TRANSCRIPT_DIR, from_results,
                                             from_transcript, to_results, to_transcript)
+from ptpcert.capture.timing import TRANSPORTS, Timing, run_timing
 from ptpcert.model.line import LineSettings
 
 __all__ = [
@@ -49,8 +51,11 @@ __all__ = [
     # pcap
     "EPOCH", "EV_CAPTURE_COMPLETE", "EV_CAPTURE_DATA_LOST", "EV_DATA_RX_END", "EV_DATA_RX_START", "EV_DATA_TX_END",
     "EV_DATA_TX_START", "EV_FRAMING_ERROR", "EV_PARITY_ERROR", "EV_SERIAL_BREAK", "EV_SERIAL_OVERFLOW",
-    "EV_STATUS_CHANGE", "LINKTYPE_RTAC_SERIAL", "MAX_PAYLOAD", "PCAPNG_MAGIC", "PCAP_MAGIC_NS", "PCAP_MAGIC_US",
-    "PcapWriter", "RTAC_HEADER", "SNAPLEN", "pcap_bytes", "read_pcap", "write_pcap",
+    "EV_STATUS_CHANGE", "LINKTYPE_RTAC_SERIAL", "MARK_TAG", "MAX_PAYLOAD", "PCAPNG_MAGIC", "PCAP_MAGIC_NS",
+    "PCAP_MAGIC_US",
+    "PcapWriter", "RTAC_HEADER", "SNAPLEN", "START_TAG", "pcap_bytes", "read_pcap", "write_pcap",
+    # timing
+    "TRANSPORTS", "Timing", "run_timing",
     # files
     "EXTENSIONS", "FORMATS", "dumps", "format_of", "load", "loads_json", "save",
 ]

@@ -95,6 +95,8 @@ def save(cap: Capture, path: str | Path, fmt: str | None = None, case_id: str = 
     fmt = format_of(path, fmt)
     data = dumps(cap, fmt, case_id)
     p = Path(path)
+    if p.exists() and not p.is_file():   # a device, a FIFO: never replaced by a regular file
+        raise CaptureError("exists and is not a regular file; give a file name", str(path))
     tmp = p.with_name(p.name + ".tmp")
     try:
         tmp.write_bytes(data)

@@ -13,13 +13,14 @@ from typing import IO, Any
 
 from ptpcert.capture.model import (LINE_ALIASES, MODEM_LINES, SEATS, WITH_DATA, Capture, CaptureError, Chunk, Cond,
                                    Mark, capture_time, checked_line, hex_text, iso_time, parse_start)
+from ptpcert.capture.timing import Timing
 from ptpcert.model.line import LineSettings
 
 HEXLOG_MAGIC = "ptpcert-hexlog"
 HEXLOG_VERSION = 1
 
 _COND_WORDS = {c.value.upper(): c for c in Cond}
-_HEADER_KEYS = ("start", "line", "a", "b", "note")
+_HEADER_KEYS = ("start", "line", "timing", "a", "b", "note")
 _TIME_RE = re.compile(r"(\d+(?:\.\d*)?|\.\d+)(s|ms|us)?", re.IGNORECASE)
 _HEXBYTE = re.compile(r"(?:[0-9A-Fa-f]{2})+")
 
@@ -39,6 +40,8 @@ class HexLogWriter:
             fp.write(f"# start: {iso_time(meta.start)}\n")
         if meta.line is not None:
             fp.write(f"# line: {meta.line}\n")
+        if meta.timing is not None:
+            fp.write(f"# timing: {meta.timing.text()}\n")
         for s in SEATS:
             fp.write(f"# {s}: {meta.seats[s]}\n")
         for n in meta.notes:
@@ -111,6 +114,7 @@ def read_hexlog(text: str | IO[str], source: str = "") -> Capture:
         text = text.read()
     seats = {"a": "a", "b": "b"}
     line: LineSettings | None = None
+    timing: Timing | None = None
     start = None
     notes: list[str] = []
     chunks: list[Chunk] = []
@@ -141,6 +145,8 @@ def read_hexlog(text: str | IO[str], source: str = "") -> Capture:
                         start = parse_start(value)
                     elif key == "line":
                         line = parse_line(value)
+                    elif key == "timing":
+                        timing = Timing.parse(value)
                     elif key == "note":
                         notes.append(value)
                     else:
@@ -193,7 +199,7 @@ def read_hexlog(text: str | IO[str], source: str = "") -> Capture:
         except CaptureError as exc:
             raise CaptureError(exc.message, source, no) from None
     try:
-        return Capture(chunks, seats, line, start, end, notes, marks)
+        return Capture(chunks, seats, line, start, end, notes, marks, timing)
     except CaptureError as exc:
         raise CaptureError(exc.message, source) from None
 

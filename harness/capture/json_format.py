@@ -12,6 +12,7 @@ from typing import Any
 
 from ptpcert.capture.model import (MODEM_LINES, Capture, CaptureError, Chunk, Mark, checked_line, hex_text,
                                    iso_time, parse_start)
+from ptpcert.capture.timing import Timing
 from ptpcert.model.line import LineSettings
 
 JSON_FORMAT = "ptpcert-capture/1"
@@ -70,6 +71,7 @@ def to_dict(cap: Capture) -> dict[str, Any]:
         "seats": dict(cap.seats),
         "notes": list(cap.notes),
         "marks": [{"t": m.t, "text": m.text} for m in cap.marks],
+        "timing": None if cap.timing is None else cap.timing.to_dict(),
         "chunks": [chunk_to_dict(c) for c in cap.chunks],
     }
 
@@ -96,9 +98,11 @@ def from_dict(d: Any, source: str = "") -> Capture:
                 raise CaptureError(f"{where}: {exc.message}") from None
         marks = [Mark(m.get("t"), str(m.get("text", ""))) for m in d.get("marks", [])]
         line = d.get("line")
+        timing = d.get("timing")
         return Capture(chunks, d.get("seats") or {"a": "a", "b": "b"},
                        None if line is None else line_from_dict(line),
-                       parse_start(d.get("start")), d.get("end"), list(d.get("notes", [])), marks)
+                       parse_start(d.get("start")), d.get("end"), list(d.get("notes", [])), marks,
+                       None if timing is None else Timing.from_dict(timing))
     except CaptureError as exc:
         raise CaptureError(exc.message, source) from None
     except (TypeError, AttributeError) as exc:

@@ -161,7 +161,8 @@ def _merged(chunks: list[Chunk]) -> list[Chunk]:
 class Capture:
     """A recording of both directions of one serial link: chunks in time order (adjacent
     ones of one seat at one instant merged), who sits in each seat, the line settings, the
-    absolute time of t = 0, when the recording ended, notes and marks."""
+    absolute time of t = 0, when the recording ended, notes and marks, and how its times
+    were taken."""
 
     chunks: list[Chunk] = field(default_factory=list)
     seats: dict[str, str] = field(default_factory=lambda: {"a": "a", "b": "b"})
@@ -170,8 +171,14 @@ class Capture:
     end: float | None = None               # when the recording ended; None: at its last chunk
     notes: list[str] = field(default_factory=list)
     marks: list[Mark] = field(default_factory=list)
+    #: how the times were taken (:class:`ptpcert.capture.timing.Timing`); None: not said
+    #: (a capture written before captures said it, or another recorder's)
+    timing: Any = None
 
     def __post_init__(self) -> None:
+        if self.timing is not None:
+            if not hasattr(self.timing, "resolution"):   # a Timing (capture.timing builds on this module)
+                raise CaptureError(f"timing must be a Timing, not {self.timing!r}")
         self.chunks = _merged(sorted(self.chunks, key=lambda c: c.t))  # stable: equal times keep their order
         self.marks = sorted(self.marks, key=lambda m: m.t)
         self.seats = dict(self.seats)

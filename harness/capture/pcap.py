@@ -2,8 +2,10 @@
 LINKTYPE_RTAC_SERIAL (250), which Wireshark and tshark dissect as "RTAC Serial".
 :class:`PcapWriter` writes one record by record as a recorder goes, :func:`write_pcap` /
 :func:`pcap_bytes` a whole capture, and :func:`read_pcap` reads our files and other
-recorders' (either byte order, micro- or nanosecond timestamps). Seat names, line settings,
-notes and marks have no place in pcap. Built on the capture's model; the record layout,
+recorders' (either byte order, micro- or nanosecond timestamps). What the RTAC link type
+has no field for rides in records of ptpcert's own: the start record's payload holds how the
+times were taken, the line settings, seat names and notes, and each mark is a
+STATUS_CHANGE record that changes no line. Built on the capture's model; the record layout,
 and where ptpcert keeps a condition's seat, is specified in ``docs/capture-formats.md``
 ("pcap for Wireshark").
 """
@@ -15,7 +17,10 @@ import io
 import struct
 from typing import IO, Iterable
 
-from ptpcert.capture.model import MODEM_LINES, WITH_DATA, Capture, CaptureError, Chunk, Cond, capture_time
+from ptpcert.capture.model import (MODEM_LINES, WITH_DATA, Capture, CaptureError, Chunk, Cond, Mark, capture_time,
+                                   checked_line)
+from ptpcert.capture.timing import Timing
+from ptpcert.model.line import LineSettings
 
 LINKTYPE_RTAC_SERIAL = 250
 EPOCH = _dt.datetime(1970, 1, 1, tzinfo=_dt.timezone.utc)
@@ -63,18 +68,63 @@ def _start_us(start: _dt.datetime | None) -> int:
     return 0 if start is None else (start - EPOCH) // _US
 
 
+#: The start record's payload, when the capture says more than its chunks: this first line,
+#: then ``key: value`` lines as in the hex log's header (``timing``, ``line``, ``a``, ``b``,
+#: ``note``), UTF-8.
+START_TAG = b"ptpcert-capture 1"
+#: A mark's record: a STATUS_CHANGE that changes no line, its payload this line and the text.
+MARK_TAG = b"ptpcert-mark"
+
+
+def _start_payload(cap: Capture | None, timing: Timing | None) -> bytes:
+    lines = [] if timing is None else [f"timing: {timing.text()}"]
+    if cap is not None:
+        if cap.line is not None:
+            lines.append(f"line: {cap.line}")
+        if cap.seats != {"a": "a", "b": "b"}:
+            lines += [f"{s}: {cap.seats[s]}" for s in ("a", "b")]
+        lines += [f"note: {n}" for n in cap.notes]
+    if not lines:
+        return b""
+    return START_TAG + b"\n" + "\n".join(lines).encode("utf-8") + b"\n"
+
+
+def _read_start_payload(payload: bytes, head: dict) -> None:
+    """The capture's header from our start record's payload into ``head`` (keys of a later
+    version are ignored)."""
+    for raw in payload.decode("utf-8", "replace").splitlines()[1:]:
+        key, sep, value = raw.partition(":")
+        key, value = key.strip().lower(), value.strip()
+        if not sep:
+            continue
+        if key == "timing":
+            head["timing"] = Timing.parse(value)
+        elif key == "line":
+            try:
+                head["line"] = checked_line(LineSettings.parse(value))
+            except ValueError as exc:
+                raise CaptureError(str(exc)) from None
+        elif key in ("a", "b") and value:
+            head["seats"][key] = value
+        elif key == "note":
+            head["notes"].append(value)
+
+
 class PcapWriter:
     """Writes a pcap file record by record (for a recorder that writes as it goes): the
-    global header and the start record at once, then one or more records per chunk."""
+    global header and the start record at once (saying how the times are taken, when
+    ``timing`` is given, and the line settings, seat names and notes of ``head``), then one
+    or more records per chunk and one per mark."""
 
-    def __init__(self, fp: IO[bytes], start: _dt.datetime | None = None):
+    def __init__(self, fp: IO[bytes], start: _dt.datetime | None = None, timing: Timing | None = None,
+                 head: Capture | None = None):
         self.fp = fp
         self.base = _start_us(start)
         if self.base < 0:
             raise CaptureError("pcap cannot hold times before 1970")
         self.lines_a = 0
         fp.write(_GLOBAL.pack(PCAP_MAGIC_US, 2, 4, 0, 0, SNAPLEN, LINKTYPE_RTAC_SERIAL))
-        self._record(0.0, EV_STATUS_CHANGE, 0, _SEAT_FOOTER["a"], b"")
+        self._record(0.0, EV_STATUS_CHANGE, 0, _SEAT_FOOTER["a"], _start_payload(head, timing))
 
     def _record(self, t: float, event: int, ctrl: int, footer: int, payload: bytes) -> None:
         us = self.base + round(capture_time(t) * 1_000_000)
@@ -104,6 +154,9 @@ class PcapWriter:
         for i in range(0, max(len(payload), 1), MAX_PAYLOAD):
             self._record(c.t, _COND_EVENT[c.condition], ctrl, footer, payload[i:i + MAX_PAYLOAD])
 
+    def mark(self, m: Mark) -> None:
+        self._record(m.t, EV_STATUS_CHANGE, self.lines_a, 0, MARK_TAG + b"\n" + m.text.encode("utf-8"))
+
     def close(self, end: float | None = None) -> None:
         if end is not None:
             self._record(end, EV_CAPTURE_COMPLETE, self.lines_a, 0, b"")
@@ -112,9 +165,11 @@ class PcapWriter:
 
 def write_pcap(cap: Capture, fp: IO[bytes]) -> None:
     """Write the whole capture as a pcap file."""
-    w = PcapWriter(fp, cap.start)
-    for c in cap.chunks:
-        w.chunk(c)
+    w = PcapWriter(fp, cap.start, cap.timing, cap)
+    items = [(m.t, 0, m) for m in cap.marks] + [(c.t, 1, c) for c in cap.chunks]
+    items.sort(key=lambda x: (x[0], x[1]))     # a mark before a chunk at the same time
+    for _, _, x in items:
+        (w.mark if isinstance(x, Mark) else w.chunk)(x)
     w.close(cap.end)
 
 
@@ -153,6 +208,8 @@ def read_pcap(data: bytes, source: str = "") -> Capture:
     chunks: list[Chunk] = []
     notes: list[str] = []
     end: float | None = None
+    head: dict = {"timing": None, "line": None, "seats": {"a": "a", "b": "b"}, "notes": []}
+    marks: list[Mark] = []
     lines_a = 0
     while pos < len(data):
         n += 1
@@ -180,6 +237,12 @@ def read_pcap(data: bytes, source: str = "") -> Capture:
         try:
             if n == 1 and event == EV_STATUS_CHANGE and ctrl == 0 and not payload:
                 continue     # the start record (ours, or a recorder's with nothing asserted)
+            if n == 1 and event == EV_STATUS_CHANGE and ctrl == 0 and payload.startswith(START_TAG):
+                _read_start_payload(payload, head)       # ours, with the capture's header
+                continue
+            if event == EV_STATUS_CHANGE and payload.startswith(MARK_TAG + b"\n"):
+                marks.append(Mark(t, payload[len(MARK_TAG) + 1:].decode("utf-8", "replace")))
+                continue
             if event in (EV_DATA_TX_START, EV_DATA_TX_END, EV_DATA_RX_START, EV_DATA_RX_END):
                 if ctrl != lines_a:   # another recorder's lines changed on a data record
                     chunks.append(Chunk(t, "a", condition=Cond.MODEM, lines=_byte_lines(ctrl)))
@@ -216,5 +279,5 @@ def read_pcap(data: bytes, source: str = "") -> Capture:
     if end is not None and chunks and end < max(c.t for c in chunks):
         notes.append(f"CAPTURE_COMPLETE at {end:.6f} s comes before the last chunk; ignored")
         end = None
-    return Capture(chunks, {"a": "a", "b": "b"}, None, start, end, notes)
+    return Capture(chunks, head["seats"], head["line"], start, end, head["notes"] + notes, marks, head["timing"])
 

@@ -16,6 +16,7 @@ from typing import Any, Iterable
 from ptpcert.capture.json_format import LINE_DEFAULTS, line_from_dict, line_to_dict
 from ptpcert.capture.model import (MODEM_LINES, WITH_DATA, Capture, CaptureError, Chunk, Cond, Mark, capture_time,
                                    iso_time, parse_start)
+from ptpcert.capture.timing import Timing, run_timing
 from ptpcert.model.line import LineSettings
 
 #: Transcript directions of the seats in a capture ``ptpcert run`` wrote.
@@ -198,14 +199,21 @@ def from_results(run: Any, case: str | None = None, source: str = "") -> Capture
         cases = list(run.cases)
     if len(cases) == 1:
         c = cases[0]
+        line = _line_of_params(c.params)
         notes = [f"case {c.id}: {c.title}" + (f" ({c.reference})" if c.reference else ""),
                  f"verdict: {c.verdict}" + (f": {c.message}" if c.message else "")]
         if run.iut:
             notes.append(f"IUT: {run.iut}")
         notes += [n for n in c.notes if "\n" not in n]
+        timing = _run_timing(run.iut, line)
         if c.group == CAPTURE_GROUP:
-            notes = list(c.notes)   # a results object written from a capture: its notes as they were
-        return from_transcript(c.transcript, line=_line_of_params(c.params), start=start, notes=notes, source=source)
+            # a results object written from a capture: its notes as they were, and its timing
+            notes = [n for n in c.notes if not n.startswith(_TIMING_NOTE)]
+            said = [n[len(_TIMING_NOTE):] for n in c.notes if n.startswith(_TIMING_NOTE)]
+            timing = Timing.parse(said[0]) if said else None
+        cap = from_transcript(c.transcript, line=line, start=start, notes=notes, source=source)
+        cap.timing = timing
+        return cap
     chunks: list[Chunk] = []
     marks: list[Mark] = []
     lines = {_line_of_params(c.params) for c in cases if c.transcript}
@@ -224,7 +232,19 @@ def from_results(run: Any, case: str | None = None, source: str = "") -> Capture
         marks.append(Mark(offset, f"case {c.id} ({c.verdict})" + (f" {c.reference}" if c.reference else "")))
         marks += ms
         prev_end = max([offset] + [x.t for x in cs] + [m.t for m in ms] + ([end] if end is not None else []))
-    return Capture(chunks, dict(RUN_SEATS), line, start, prev_end if chunks or marks else None, notes, marks)
+    return Capture(chunks, dict(RUN_SEATS), line, start, prev_end if chunks or marks else None, notes, marks,
+                   _run_timing(run.iut, line))
+
+
+#: the note of a results object written from a capture that keeps the capture's timing
+_TIMING_NOTE = "capture timing: "
+
+
+def _run_timing(iut: str, line: LineSettings | None) -> Timing | None:
+    """How a run's transcript times were taken (None when the results do not name the IUT)."""
+    if not iut:
+        return None
+    return run_timing(iut, line.char_time if line is not None and line.baud_rate else None)
 
 
 def to_results(cap: Capture, case_id: str = "capture"):
@@ -237,7 +257,7 @@ def to_results(cap: Capture, case_id: str = "capture"):
                      verdict=R.NOT_RUN, message="not judged: converted from a capture")
     c.transcript = to_transcript(cap)
     c.params = {} if cap.line is None else line_to_dict(cap.line)
-    c.notes = list(cap.notes)
+    c.notes = list(cap.notes) + ([] if cap.timing is None else [_TIMING_NOTE + cap.timing.text()])
     return R.RunResult(tool_version=__version__, started=iso_time(cap.start) or "", iut=cap.seats["b"],
                        cases=[c])
 

@@ -3,6 +3,7 @@ stations (see :mod:`ptpcert.analysis`)."""
 
 from __future__ import annotations
 
+import os
 import re
 import sys
 import time
@@ -11,7 +12,7 @@ from pathlib import Path
 from ptpcert import priority
 from ptpcert.priority import MODES as PRIORITY_MODES
 
-from .common import load_profile, now
+from .common import load_profile, now, number
 
 #: schemes of ``--iut`` URLs whose transport starts a fresh IUT for every case
 _RESTARTING = ("exec:", "pty:", "sim:")
@@ -33,10 +34,11 @@ def add_commands(sub) -> None:
     _common(a)
     a.add_argument("--from", dest="from_", choices=FORMATS, metavar="FMT", help="the capture's format")
     a.add_argument("--case", metavar="ID", help="from a results object: this case only")
-    a.add_argument("--resolution-ms", type=float, default=None, metavar="MS",
+    a.add_argument("--resolution-ms", type=MS, default=None, metavar="MS",
                    help="how much earlier than its timestamp a character may have been complete "
-                        "(default: 0, the timestamps are exact; for a results object of a run against a real "
-                        "process or port: one character time + 2 ms)")
+                        "(default: what the capture says of how its times were taken, e.g. a run against "
+                        "exec:/pty: three character times + 2 ms, a serial port one + 2 ms, sim: 0; a capture "
+                        "that does not say, and names no run: 0, the timestamps are exact)")
     a.add_argument("--restart-at-cases", choices=["auto", "a", "b", "both", "none"], default="auto",
                    help="the seats whose station is switched on where a case of a run begins (default auto: "
                         "seat b when the capture is a run against exec:, pty: or sim:)")
@@ -58,16 +60,17 @@ def add_commands(sub) -> None:
     m.add_argument("--parmrk", action="store_true",
                    help="the ports mark line conditions as termios PARMRK does (a real UART is told to; on a "
                         "pseudo-terminal the writer marks them)")
-    m.add_argument("--fifo", type=int, default=8, metavar="CHARS",
+    m.add_argument("--fifo", type=number(int, 1, 4096, "characters"), default=8, metavar="CHARS",
                    help="how many characters the port's receiver may collect before it hands them over "
                         "(default 8: a 16550A UART's receive trigger; its 4-character timeout is less; 1: "
                         "a pseudo-terminal)")
-    m.add_argument("--latency-ms", type=float, default=2.0, metavar="MS",
+    m.add_argument("--latency-ms", type=MS, default=2.0, metavar="MS",
                    help="how long the driver may hold what the receiver handed over before a read returns it "
                         "(default 2; a USB adapter: its latency timer, 16 unless set lower, plus 1)")
-    m.add_argument("--resolution-ms", type=float, default=None, metavar="MS",
+    m.add_argument("--resolution-ms", type=MS, default=None, metavar="MS",
                    help="the timing resolution itself (default: --fifo character times + --latency-ms)")
-    m.add_argument("--duration", type=float, default=None, metavar="SECONDS", help="stop after this long")
+    m.add_argument("--duration", type=number(float, 0.001, 7 * 24 * 3600.0, "seconds"), default=None,
+                   metavar="SECONDS", help="stop after this long (0.001 s to a week)")
     m.add_argument("--priority", choices=PRIORITY_MODES, default="auto",
                    help="the reader thread's scheduling class: auto (default) takes the real-time class where the "
                         "system permits it, realtime insists on it, normal never asks; the analysis stays normal")
@@ -81,7 +84,7 @@ def _common(p) -> None:
     p.add_argument("--profile-a", metavar="FILE", help="seat a's own profile")
     p.add_argument("--profile-b", metavar="FILE", help="seat b's own profile (instead of --profile's)")
     p.add_argument("--judge", choices=["a", "b", "both"], default="both", help="whose deviations count (default both)")
-    p.add_argument("--tolerance-ms", type=float, default=50.0,
+    p.add_argument("--tolerance-ms", type=MS, default=50.0,
                    help="how late a station may act on its own timer, plus 25%% of the timer (default 50)")
     p.add_argument("--junit", metavar="PATH", help="write a JUnit XML file")
     p.add_argument("--json", metavar="PATH", help="write the results object as JSON")
@@ -107,7 +110,28 @@ class Setup:
         return d
 
 
+#: a time option in milliseconds: finite, 0 to a minute
+MS = number(float, 0, 60000, "ms")
+
+
 def _setup(cmd: str, args) -> Setup | None:
+    from ptpcert.cli.reports import report_paths_problem
+    from ptpcert.results import report_path_problem
+
+    # every file this command writes, checked before anything is read or watched: absent or
+    # a regular file, writable, and no two of them (nor the capture read) the same file
+    reading = getattr(args, "capture", None) if cmd == "analyze" else None
+    problem = report_paths_problem(args, ("junit", "json", "html"), reading=reading)
+    if not problem and cmd == "monitor" and args.capture:
+        written = {os.path.realpath(p) for p in (args.junit, args.json, args.html) if p}
+        if os.path.realpath(args.capture) in written:
+            problem = f"--capture {args.capture}: is also a report; give each file its own name"
+        else:
+            why = report_path_problem(args.capture)
+            problem = f"--capture {args.capture}: {why}" if why else None
+    if problem:
+        print(f"ptpcert {cmd}: {problem}", file=sys.stderr)
+        return None
 
     base = load_profile(cmd, args.profile)
     if base is None:
@@ -205,6 +229,21 @@ def _run_url(path: str, cap) -> str | None:
     return None
 
 
+def _resolution(args, cap, url: str | None, char: float) -> float:
+    """The timing resolution to judge ``cap`` with: ``--resolution-ms``, else what the
+    capture says of how its times were taken, else (a capture written before captures said
+    it) from the run it names, else 0 (exact)."""
+    from ptpcert import capture as C
+
+    if args.resolution_ms is not None:
+        return args.resolution_ms / 1000.0
+    if cap.timing is not None:
+        return cap.timing.resolution
+    if url is not None:
+        return C.run_timing(url, char).resolution
+    return 0.0
+
+
 def cmd_analyze(args) -> int:
     from ptpcert import analysis as A
     from ptpcert import capture as C
@@ -227,12 +266,7 @@ def cmd_analyze(args) -> int:
     if args.case and restart and not any(m.text.lower().startswith("case ") for m in cap.marks):
         # one case of a run: it began at t = 0, with the stations switched on as the run did
         cap.marks.insert(0, C.Mark(0.0, f"case {args.case}"))
-    if args.resolution_ms is not None:
-        resolution = args.resolution_ms / 1000.0
-    elif url is not None and not url.startswith("sim:"):
-        resolution = max(setup.kit.char("a"), setup.kit.char("b")) + 0.002
-    else:
-        resolution = 0.0
+    resolution = _resolution(args, cap, url, max(setup.kit.char("a"), setup.kit.char("b")))
     notes = []
     ours = setup.proc.line(setup.params["b"])
     if cap.line is not None and str(cap.line) != str(ours):
@@ -246,7 +280,8 @@ def cmd_analyze(args) -> int:
               + (f"; seat b restarts at each case ({url})" if restart else ""), flush=True)
     an = A.analyze(cap, setup.kit, judge=judged, resolution=resolution, restart_at_cases=restart,
                    source=str(args.capture), listener=listener)
-    notes.append(f"timing resolution {resolution * 1000:.3f} ms")
+    notes.append(f"timing resolution {resolution * 1000:.3f} ms" + (
+        "" if args.resolution_ms is not None or cap.timing is None else f" (the capture's {cap.timing.describe()})"))
     result = A.to_results(an, profile=setup.profile_dict(an.line.judged, resolution), notes=notes)
     result.profile_path = f"seat a: {setup.paths['a']}; seat b: {setup.paths['b']}"
     return _finish(result, args, t0, setup.proc.report_view())
@@ -282,18 +317,19 @@ def cmd_monitor(args) -> int:
     path = args.capture or f"monitor-{started.strftime('%Y%m%dT%H%M%SZ')}.pcap"
     try:
         fmt = C.format_of(path)
-    except C.CaptureError as exc:
-        print(f"ptpcert monitor: {exc}", file=sys.stderr)
-        return 2
-    if fmt not in ("pcap", "hexlog"):
-        print(f"ptpcert monitor: the capture is written as it goes: .pcap or .hexlog, not {path}", file=sys.stderr)
+    except C.CaptureError:
+        fmt = None
+    if fmt not in ("pcap", "hexlog"):   # monitor has no --to: the extension says the format
+        print(f"ptpcert monitor: --capture {path}: the capture is written as it goes, as pcap or hex log: "
+              "name it .pcap, .cap, .hexlog, .log or .txt", file=sys.stderr)
         return 2
     judged = _judged(args)
     seats = {"a": args.a, "b": args.b}
     listener = ConsoleListener(seats, quiet=args.quiet, every=True)
     line = A.LineAnalysis(setup.kit, judge=judged, resolution=resolution, listener=listener)
+    timing = C.Timing("monitor", resolution, line_b.char_time if line_b.baud_rate else None)
     meta = C.Capture([], seats, line_b, started, None,
-                     [f"ptpcert monitor, timing resolution {resolution * 1000:.3f} ms"])
+                     [f"ptpcert monitor, timing resolution {resolution * 1000:.3f} ms"], timing=timing)
     try:
         mon = Monitor(args.a, args.b, line_b, parmrk=args.parmrk)
     except MonitorError as exc:
@@ -310,7 +346,7 @@ def cmd_monitor(args) -> int:
     old_int = signal.signal(signal.SIGINT, stop)
     try:
         with open(path, "wb" if fmt == "pcap" else "w", **({} if fmt == "pcap" else {"encoding": "utf-8"})) as fp:
-            writer = C.PcapWriter(fp, started) if fmt == "pcap" else C.HexLogWriter(fp, meta)
+            writer = C.PcapWriter(fp, started, timing) if fmt == "pcap" else C.HexLogWriter(fp, meta)
             with priority.harness(args.priority, this_thread=False) as how:
                 end = mon.run(line, writer, stop=lambda: bool(interrupted), duration=args.duration,
                               resolution=resolution)
@@ -326,7 +362,7 @@ def cmd_monitor(args) -> int:
         signal.signal(signal.SIGINT, old_int)
         mon.close()
     line.close(end)
-    cap = C.Capture(list(line.chunks), seats, line_b, started, end, list(meta.notes), list(line.marks))
+    cap = C.Capture(list(line.chunks), seats, line_b, started, end, list(meta.notes), list(line.marks), timing)
     an = A.Analysis(line, cap, setup.kit, path)
     result = A.to_results(an, profile=setup.profile_dict(line.judged, resolution),
                           notes=[f"timing resolution {resolution * 1000:.3f} ms (timestamps taken when a read returned)"])

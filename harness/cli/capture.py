@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import sys
 
 
@@ -38,6 +39,14 @@ def _no_subcommand(parser) -> int:
 def cmd_convert(args) -> int:
     from ptpcert import capture as C
 
+    from ptpcert.results import report_path_problem
+
+    if args.output != "-":   # before anything is read: never a device, never the input
+        same = os.path.realpath(args.output) == os.path.realpath(args.input)
+        problem = "is also the input; give the output its own file" if same else report_path_problem(args.output)
+        if problem:
+            print(f"ptpcert capture: {args.output}: {problem}", file=sys.stderr)
+            return 2
     try:
         cap = C.load(args.input, args.from_, args.case)
         if args.output == "-":

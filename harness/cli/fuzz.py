@@ -55,16 +55,22 @@ def cmd_fuzz(args) -> int:
         return 2
     seed = args.seed if args.seed is not None else random.SystemRandom().randrange(1, 2**31)
     out_dir = args.export or str(findings_dir())
+    # before the first example: a finding must never be lost for want of a place to put it
+    from ptpcert.results import directory_problem
+    problem = directory_problem(out_dir)
+    if problem:
+        print(f"ptpcert fuzz: --export {out_dir}: {problem}", file=sys.stderr)
+        return 2
+    try:
+        from ptpcert.fuzz import open_database
+        open_database(args.database)
+    except (ValueError, OSError) as exc:
+        print(f"ptpcert fuzz: {exc}", file=sys.stderr)
+        return 2
     if args.workers > 1:
         if not args.iut.startswith(("exec:", "pty:", "sim:")):
             print(f"ptpcert fuzz: --workers {args.workers} needs an IUT that can be started several times "
                   f"(exec:, pty:, sim:); {args.iut} is one line", file=sys.stderr)
-            return 2
-        try:
-            from ptpcert.fuzz import open_database
-            open_database(args.database)
-        except (ValueError, OSError) as exc:
-            print(f"ptpcert fuzz: {exc}", file=sys.stderr)
             return 2
         return _fuzz_workers(args, profile, seed, out_dir)
     with Interrupts(args) as interrupts:
@@ -84,6 +90,12 @@ def cmd_fuzz(args) -> int:
             kit = profile.procedure.fuzz_kit()
             check = bool(kit is not None and kit.check_reports and profile.status_from_stderr)
             runner = Runner(factory, profile, RunOptions(check_status=check, late_ms=50.0))
+            idle = nothing_to_fuzz(runner, profile)
+            if idle:
+                interrupts.disarm()
+                factory.shutdown()
+                print(f"ptpcert fuzz: {idle}", file=sys.stderr)
+                return 2
             camp = Campaign(profile, runner, args.budget, seed, args.settings, args.database,
                             progress=lambda line: print(line, flush=True), max_actions=args.max_actions)
             camp.run()
@@ -113,6 +125,17 @@ def cmd_fuzz(args) -> int:
     return 1 if camp.findings else 0
 
 
+def nothing_to_fuzz(runner, profile) -> str | None:
+    """Why the fuzzer has nothing to search under ``profile`` with this IUT: where every
+    case of the suite generated for the profile is unsupported (the IUT neither answers nor
+    sends anything the profile lets the harness drive), a campaign could find nothing, and
+    its "0 findings" would read as a clean bill."""
+    from ptpcert.scenario import load_vector_sets
+    from ptpcert.suite import load_suite
+
+    return runner.nothing_to_test(load_suite(profile, load_vector_sets()))
+
+
 def _fuzz_workers(args, profile, seed: int, out_dir: str) -> int:
     """``ptpcert fuzz --workers N``: N campaigns at once (:func:`ptpcert.fuzz.run_workers`)."""
     from ptpcert.fuzz import WorkerSpec, export, run_workers
@@ -120,7 +143,13 @@ def _fuzz_workers(args, profile, seed: int, out_dir: str) -> int:
     factory = connect("fuzz", args.iut, profile)   # the IUT starts: checked once, here
     if factory is None:
         return 2
+    from ptpcert.runner import Runner
+
+    idle = nothing_to_fuzz(Runner(factory, profile), profile)
     factory.shutdown()
+    if idle:
+        print(f"ptpcert fuzz: {idle}", file=sys.stderr)
+        return 2
     print(f"ptpcert fuzz {__version__}: iut {args.iut}, profile {args.profile}, {args.workers} workers")
     print(f"seed {seed}, settings {args.settings}, budget {args.budget:g} s"
           + (f", database {args.database}" if args.database else ""))

@@ -133,7 +133,10 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     ap.add_argument("--version", action="version", version=f"ptpcert {__version__}")
     sub = ap.add_subparsers(dest="command", metavar="COMMAND")
 
-    v = sub.add_parser("vectors", help="list the golden vectors, or check them against the model")
+    v = sub.add_parser("vectors", help="list the golden vectors, or check them against the model",
+                       description="List the golden vectors (bundled, and any directory of your own), or with "
+                                   "--check replay each against the reference model. Exit status: 0 listed or "
+                                   "all agree, 1 a vector disagrees with the model, 2 bad usage or a broken file.")
     v.add_argument("--check", action="store_true", help="replay every vector against the reference model")
     v.add_argument("--vectors", action="append", default=[], metavar="DIR",
                    help="a directory of vectors in addition to the bundled golden vectors (repeatable)")
@@ -144,14 +147,19 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     v.add_argument("-v", "--verbose", action="store_true")
     v.set_defaults(func=_vectors)
 
-    s = sub.add_parser("status", help="explain a STATUS event code (e.g. 16#0808)")
+    s = sub.add_parser("status", help="explain a STATUS event code (e.g. 16#0808)",
+                       description="Explain CP 340/341/441 STATUS event codes (Tables 8-1, 8-2): class, side, "
+                                   "the procedures that raise them and what they mean. Exit status: 0 explained, "
+                                   "2 an unknown code or bad usage.")
     s.add_argument("code", nargs="*", help="16#0808, 0x0808 or 0808")
     s.add_argument("--list", action="store_true", help="list all 80 events")
     for proc in procedures():
         proc.add_status_arguments(s.add_argument_group(proc.title))
     s.set_defaults(func=_status)
 
-    m = sub.add_parser("model", help="a procedure's transition table, as text or drawn (--svg)")
+    m = sub.add_parser("model", help="a procedure's transition table, as text or drawn (--svg)",
+                       description="Print the transition table of a procedure's reference model, or draw its "
+                                   "state machine into a self-contained SVG. Exit status: 0 done, 2 bad usage.")
     m.add_argument("--procedure", choices=all_names(), help="whose state machine (needed where several have one)")
     m.add_argument("--svg", metavar="FILE", help="draw the state machine into FILE (a self-contained SVG)")
     m.set_defaults(func=_model)
@@ -172,6 +180,8 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     cli_analyze.add_commands(sub)
     from ptpcert.cli import rules as cli_rules
     cli_rules.add_commands(sub)
+    from ptpcert.cli import profile as cli_profile
+    cli_profile.add_commands(sub)
     return ap
 
 

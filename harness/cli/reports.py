@@ -24,7 +24,7 @@ def report_paths_problem(args, kinds: tuple[str, ...], reading: str | None = Non
 
     seen: dict[str, str] = {}
     if reading is not None:
-        seen[os.path.realpath(reading)] = "the results file read"
+        seen[os.path.realpath(reading)] = "the file read"
     for kind in kinds:
         path = getattr(args, kind, None)
         if path is None:
@@ -54,7 +54,7 @@ def write_reports(result, args, cmd: str, view=None) -> set[str]:
 
     if view is not None and not result.root_causes:   # the procedure names the bytes that steer it
         result.root_causes = R.root_causes(result.cases, view.names)
-    writers = (("junit", rep.write_junit), ("json", lambda r, p: r.write_json(p)),
+    writers = (("junit", lambda r, p: rep.write_junit(r, p, view)), ("json", lambda r, p: r.write_json(p)),
                ("html", lambda r, p: write_html(r, p, view)), ("pcap", write_pcap))
     written = set()
     for kind, write in writers:

@@ -134,7 +134,7 @@ def cmd_run(args) -> int:
     from ptpcert.runner import Runner, RunOptions
     from ptpcert.scenario import VectorError, load_vector_sets, vector_set_hash
     from ptpcert.suite import check_expected_failures, load_suite
-    from ptpcert.transport import TransportError, make_factory
+    from ptpcert.transport import TransportError, make_factory, preflight
 
     profile = load_profile("run", args.profile)
     if profile is None:
@@ -155,8 +155,13 @@ def cmd_run(args) -> int:
         print(f"ptpcert run: {exc}", file=sys.stderr)
         return 2
     if not cases:
-        print("ptpcert run: no case matches --select " + " ".join(args.select or [])
-              + " (the HTML or JSON report of a full run lists the case ids)", file=sys.stderr)
+        if args.select:
+            why = ("no case matches --select " + " ".join(args.select)
+                   + " (the HTML or JSON report of a full run lists the case ids)")
+        else:   # --vectors-only, and none of the vectors is for the profile's procedure
+            why = (f"no case to run: none of the vectors of {vector_set_label(args.vectors, args.vectors_only)} "
+                   f"is for {profile.procedure.title}, the profile's procedure")
+        print(f"ptpcert run: {why}", file=sys.stderr)
         return 2
     # before the first case: a run must never end without the reports it was asked for
     problem = report_paths_problem(args, ("junit", "json", "html", "pcap"))
@@ -197,9 +202,16 @@ def cmd_run(args) -> int:
             opts = RunOptions(late_ms=args.tolerance_ms, startup_timeout=args.startup_timeout,
                               echo=profile.echo, check_status=profile.status_from_stderr,
                               edge_attempts=args.edge_attempts)
+            idle = Runner(factory, profile, opts).nothing_to_test(cases)
+            if idle:   # a run that judges nothing is no pass: bad usage, nothing run
+                interrupts.disarm()
+                for _, f in pool:
+                    f.shutdown()
+                print(f"ptpcert run: {idle}", file=sys.stderr)
+                return 2
             try:
                 for url, f in pool:
-                    preflight(url, f, profile)
+                    preflight(url, f, profile.params)
             except TransportError as exc:   # the IUT cannot start: every case is an error, with the reason
                 startup_failure = str(exc)
             if not startup_failure:
@@ -264,14 +276,14 @@ def vector_set_label(extra, only: bool) -> str:
 
 
 def connect(cmd: str, url: str, profile):
-    """The transport factory for ``url``, checked by :func:`preflight`, or None after
+    """The transport factory for ``url``, checked by :func:`ptpcert.transport.preflight`, or None after
     telling why the IUT cannot be reached (the caller exits 2)."""
-    from ptpcert.transport import TransportError, make_factory
+    from ptpcert.transport import TransportError, make_factory, preflight
 
     factory = None
     try:
         factory = make_factory(url, profile)
-        preflight(url, factory, profile)
+        preflight(url, factory, profile.params)
         return factory
     except TransportError as exc:
         if factory is not None:
@@ -280,21 +292,3 @@ def connect(cmd: str, url: str, profile):
         return None
 
 
-def preflight(url: str, factory, profile) -> None:
-    """Start the IUT once before the run: a command that cannot start, or a port that cannot
-    be opened, is found before the first case, not as 50 failed cases."""
-    from ptpcert.transport import RESTART, IUTDied, TransportError
-
-    if RESTART not in factory.capabilities or factory.virtual:
-        return
-    tr = factory(None, profile.params)
-    try:
-        tr.open()
-        tr.read(tr.now() + 1.0)
-    except IUTDied as exc:
-        what = (f"the IUT ended at start-up (exit status {exc.returncode})" if exc.returncode is not None
-                else f"at start-up, {exc}")
-        raise TransportError(f"{url}: {what}"
-                             + (f": {exc.stderr_tail.strip()[-600:]}" if exc.stderr_tail.strip() else "")) from None
-    finally:
-        tr.close()

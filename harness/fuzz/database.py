@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from hypothesis.database import DirectoryBasedExampleDatabase
 
+from ptpcert.results import directory_problem
+
 
 def open_database(spec: str | None):
     """Hypothesis's example database for ``--database``: None for none; ``redis://HOST:PORT/DB``
@@ -23,4 +25,7 @@ def open_database(spec: str | None):
             raise ValueError(f"database {spec}: a Redis database needs the hypothesis[redis] extra "
                              "(pip install 'hypothesis[redis]')") from None
         return RedisExampleDatabase(redis.Redis.from_url(spec))
+    problem = directory_problem(spec)
+    if problem:
+        raise ValueError(f"database {spec}: {problem}")
     return DirectoryBasedExampleDatabase(spec)

@@ -53,7 +53,8 @@ def value_of(key: Key, small: int | None = None) -> st.SearchStrategy[Any]:
             lambda t: sorted(t))
         return st.one_of(st.just([]), pair) if key.size[0] == 0 else pair
     if k == "subset":
-        return st.lists(st.sampled_from(key.choices), min_size=1, max_size=len(key.choices), unique=True)
+        return st.lists(st.sampled_from(key.choices), min_size=min(1, key.size[0]), max_size=len(key.choices),
+                        unique=True)
     return st.text(max_size=20)
 
 

@@ -11,6 +11,7 @@ from pathlib import Path
 
 from ptpcert import results as R
 from ptpcert.report.text import case_link, deviation_lines, failure_text, transcript_text
+from ptpcert.view import NEUTRAL, ReportView
 
 #: How each verdict shows in JUnit: as a pass, a failure, an error or a skip.
 JUNIT_KIND = {
@@ -21,8 +22,9 @@ JUNIT_KIND = {
 }
 
 
-def write_junit(run: R.RunResult, path: str | Path) -> None:
-    """Write the run as one JUnit test suite to ``path`` (whole or not at all)."""
+def write_junit(run: R.RunResult, path: str | Path, view: ReportView | None = None) -> None:
+    """Write the run as one JUnit test suite to ``path`` (whole or not at all); ``view``: the
+    procedure's (its profile keys written as the profile writes them)."""
     from junit_xml import TestCase, TestSuite, to_xml_report_string
 
     cases = []
@@ -39,7 +41,7 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
         link = case_link(run, c)
         if link:
             out.append(f"report: {link}")
-        tc = TestCase(name, classname=f"ptpcert.{c.group}", elapsed_sec=c.duration,
+        tc = TestCase(name, classname=f"ptpcert.{c.group}", elapsed_sec=round(c.duration, 6),
                       stdout="\n".join(out), stderr=c.stderr_tail or None, url=link or None,
                       file=c.source or None)
         kind = JUNIT_KIND.get(c.verdict, "error")
@@ -72,9 +74,8 @@ def write_junit(run: R.RunResult, path: str | Path) -> None:
     props = {"tool": f"ptpcert {run.tool_version}", "iut": run.iut, "profile": run.profile_path,
              "vector_set_hash": run.vector_set_hash, "verdict": run.verdict,
              "interrupted": str(run.interrupted).lower()}
-    for k, v in run.profile.items():
-        if k != "expected_failures":
-            props[f"profile.{k}"] = str(v)
+    for k, v in (view or NEUTRAL).settings(run.profile):
+        props[f"profile.{k}"] = v
     for i, g in enumerate(devs, 1):
         props[f"deviation.{i}"] = g["description"]
     dev = "\n".join(deviation_lines(run, groups=devs)).strip()

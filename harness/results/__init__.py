@@ -36,13 +36,14 @@ from ptpcert.results.cases import (
     worse_grade,
 )
 from ptpcert.results.failures import (
+    describe_group,
     describe_signature,
     divergence_frame,
     divergence_frame_text,
     failure_signature,
     root_causes,
 )
-from ptpcert.results.files import report_path_problem, write_atomic
+from ptpcert.results.files import directory_problem, report_path_problem, write_atomic
 from ptpcert.results.reading import SCHEMA, SCHEMA_V1, SCHEMAS, ResultsError
 from ptpcert.results.run import RunResult
 from ptpcert.results.transcripts import (
@@ -59,8 +60,8 @@ from ptpcert.results.transcripts import (
 __all__ = [
     "BYTE_KINDS", "ERROR", "FAIL", "FAILING", "FRAME_FIELDS", "GRADE_ORDER", "INFORMATIONAL", "NON_STRICT",
     "NOT_RUN", "PASS", "RUN_KINDS", "SCHEMA", "SCHEMAS", "SCHEMA_V1", "UNSUPPORTED", "VERDICTS", "XFAIL",
-    "XPASS", "CaseResult", "Divergence", "ResultsError", "RunResult", "describe_signature",
+    "XPASS", "CaseResult", "Divergence", "ResultsError", "RunResult", "describe_group", "describe_signature",
     "divergence_frame", "divergence_frame_text", "dropped_note", "failure_signature", "pack_transcript",
-    "report_path_problem", "root_causes", "run_bytes", "unpack_transcript", "wire_events", "wire_runs",
+    "directory_problem", "report_path_problem", "root_causes", "run_bytes", "unpack_transcript", "wire_events", "wire_runs",
     "worse_grade", "write_atomic",
 ]

@@ -154,7 +154,9 @@ def failure_signature(c: CaseResult, names: Names | None = None) -> tuple[str, s
 
 
 def describe_signature(sig: tuple[str, str, str], count: int) -> str:
-    """A group of ``count`` cases with signature ``sig`` in one sentence, for people."""
+    """A group of ``count`` cases with signature ``sig`` in one sentence, in the signature's
+    masked words (for a group without a case to show; :func:`describe_group` gives the
+    first case's real bytes and times)."""
     context, expected, observed = sig
     head = f"{count} case{'s' if count != 1 else ''}: "
     if not expected:
@@ -163,14 +165,84 @@ def describe_signature(sig: tuple[str, str, str], count: int) -> str:
     return head + f"{where}the IUT {observed} where {expected} is due"
 
 
+_MODEL = re.compile(r"^the IUT's byte (\d+) is ([0-9A-F]{2}); the model sends (.+?)(?: \((after .*)\))?$")
+
+
+def _what_the_iut_did(obs: str) -> tuple[str, str | None]:
+    """A divergence's observed text as what the IUT did, with its real bytes and times
+    ("sent 15 at 1.0 ms", "sent 41 as byte 55 (after 41 41)"), and what the reference model
+    sends instead when the observation says (else None)."""
+    m = _MODEL.match(obs)
+    if m:
+        after = f" ({m.group(4)})" if m.group(4) else ""
+        return f"sent {m.group(2)} as its byte {m.group(1)}{after}", m.group(3)
+    for prefix, verb in (("received ", "sent "), ("it still sent ", "still sent "), ("it sent ", "sent "),
+                         ("got ", "sent ")):
+        if obs.startswith(prefix):
+            return verb + obs[len(prefix):], None
+    k = re.match(r"^byte (\d+) is ([0-9A-F]{2}) \((after .*)\)$", obs)
+    if k:
+        return f"sent {k.group(2)} as byte {k.group(1)} ({k.group(3)})", None
+    n = re.match(r"^([0-9A-F]{2}) came (.*)$", obs)
+    if n:
+        return f"sent {n.group(1)} {n.group(2)}", None
+    if obs == "nothing received":
+        return "sent nothing", None
+    if re.match(r"^\S.* (?:at -?\d+(?:\.\d+)? ms|ms later)$", obs):   # a line analysis's "NAK at 12.345 ms"
+        return "sent " + obs, None
+    return f"did this: {obs}" if obs else "did something else", None
+
+
+def _last_stimulus(c: CaseResult, until: float, names: Names | None, tester: str = "the tester's") -> str:
+    """The tester's last stimulus before ``until`` with its real bytes ("the tester's NAK
+    (15)", "the tester's block 02 41 42 ... (12 bytes)"); "" at the start."""
+    word = _stimulus_word(c, until, names)
+    if not word:
+        return ""
+    if word in ("BREAK", "corrupted character"):
+        return f"{tester} {word}"
+    last = b""
+    for t, d, kind, value, _ in wire_runs(c.transcript):
+        if t > until + 1e-9:
+            break
+        if d == "tester" and kind not in ("break", "char_error"):
+            last = bytes(value)
+    shown = " ".join(f"{b:02X}" for b in last[:8]) + (f" ... ({len(last)} bytes)" if len(last) > 8 else "")
+    return f"{tester} {word} ({shown})" if word not in ("block", "character") else f"{tester} {word} {shown}"
+
+
+def describe_group(sig: tuple[str, str, str], count: int, first: CaseResult, names: Names | None = None) -> str:
+    """A group of ``count`` cases in one sentence with its ``first`` case's real bytes and
+    times: "3 cases (first: ID): at 12.5 ms, after the tester's NAK (15), the IUT sent 15 where
+    02 within ADT is due"."""
+    head = f"{count} case{'s' if count != 1 else ''} (first: {first.id}): "
+    d = first.divergence
+    if d is None:
+        return head + (first.message or describe_signature(sig, count).split(": ", 1)[1])
+    did, model = _what_the_iut_did(d.observed)
+    who, stim = "the IUT", ""
+    if first.group in ("seat a", "seat b"):   # a line analysis's finding: a seat, its partner the other
+        who = first.group
+        if who == "seat b":                    # (the transcript's "tester" is seat a)
+            stim = _last_stimulus(first, d.time, names, "seat a's")
+    else:
+        stim = _last_stimulus(first, d.time, names)
+    where = f"at {1000 * d.time:.1f} ms" + (f", after {stim}" if stim else "")
+    if model is not None:
+        return head + f"{where}, {who} {did} where the reference model fed the same line sends {model}"
+    expected = d.expected or "something else"
+    return head + f"{where}, {who} {did} where {expected} is due"
+
+
 def root_causes(cases: Iterable[CaseResult], names: Names | None = None) -> list[dict[str, Any]]:
     """The failed cases grouped by the signature of their first divergence
-    (:func:`failure_signature`, with ``names``): one group per distinct deviation, the
-    largest first, each with its description, the number of cases it explains and their ids."""
-    groups: dict[tuple[str, str, str], list[str]] = {}
+    (:func:`failure_signature`, with ``names``, masked so that other payloads and timings
+    group together): one group per distinct deviation, the largest first, each with its
+    description (:func:`describe_group`: the first case's real bytes and times), the number of cases it explains and their ids."""
+    groups: dict[tuple[str, str, str], list[CaseResult]] = {}
     for c in cases:
         if c.verdict == FAIL:
-            groups.setdefault(failure_signature(c, names), []).append(c.id)
+            groups.setdefault(failure_signature(c, names), []).append(c)
     ordered = sorted(groups.items(), key=lambda kv: -len(kv[1]))
-    return [{"signature": list(sig), "description": describe_signature(sig, len(ids)), "count": len(ids),
-             "cases": ids} for sig, ids in ordered]
+    return [{"signature": list(sig), "description": describe_group(sig, len(cs), cs[0], names), "count": len(cs),
+             "cases": [c.id for c in cs]} for sig, cs in ordered]

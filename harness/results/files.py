@@ -7,6 +7,7 @@ Part of :mod:`ptpcert.results`; the JSON results, JUnit and HTML views write thr
 
 from __future__ import annotations
 
+import errno
 import os
 import secrets
 from pathlib import Path
@@ -16,6 +17,8 @@ def write_atomic(path: str | Path, text: str) -> None:
     directory, renamed over ``path`` when complete; the temporary file is removed whatever
     goes wrong."""
     p = Path(path)
+    if p.exists() and not p.is_file():   # a device, a FIFO: never replaced by a regular file
+        raise OSError(errno.EEXIST, "exists and is not a regular file", str(p))
     p.parent.mkdir(parents=True, exist_ok=True)
     tmp = p.parent / f".{p.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
     try:
@@ -56,4 +59,35 @@ def report_path_problem(path: str | Path) -> str | None:
         probe.unlink()
     except OSError:
         pass
+    return None
+
+
+def directory_problem(path: str | Path) -> str | None:
+    """Why files cannot be written into the directory ``path``, or None when they can:
+    checked before work whose results are written there at the end (a fuzz campaign's
+    findings, an example database). Directories it creates for the check are removed again."""
+    text = str(path)
+    if not text.strip():
+        return "is empty; give a directory"
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        return "exists and is not a directory"
+    made = [d for d in (p, *p.parents) if not d.exists()]
+    try:
+        p.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        return f"cannot be created ({exc.strerror})"
+    probe = p / f".ptpcert.{os.getpid()}.{secrets.token_hex(4)}.probe"
+    try:
+        with open(probe, "x", encoding="utf-8"):
+            pass
+        probe.unlink()
+    except OSError as exc:
+        return f"no file can be written in it ({exc.strerror})"
+    finally:
+        for d in made:   # deepest first
+            try:
+                d.rmdir()
+            except OSError:
+                pass
     return None

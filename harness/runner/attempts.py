@@ -98,6 +98,26 @@ class CaseRunner:
                 return f"needs the IUT started with setup {name!r}; this transport does not start the IUT"
         return v.proc.unsupported_reason(v, self.profile, caps, self.factory)
 
+    def nothing_to_test(self, cases: list[Vector]) -> str | None:
+        """Why none of ``cases`` can run against the profile's IUT over this transport (one
+        line: how many cases, the commonest reason), or None where at least one can. A run in
+        which every case is unsupported judged nothing, and a gate must not read it as a
+        pass."""
+        if not cases:
+            return "no case at all"
+        reasons: dict[str, int] = {}
+        caps = self.factory.capabilities
+        for v in cases:
+            why = self.unsupported_reason(v, caps)
+            if not why:
+                return None
+            reasons[why] = reasons.get(why, 0) + 1
+        ranked = sorted(reasons.items(), key=lambda kv: -kv[1])
+        said = "; ".join(f"{n} case(s): {why}" for why, n in ranked[:3])
+        also = f"; {len(ranked) - 3} more reason(s)" if len(ranked) > 3 else ""
+        return (f"nothing to test: every one of the {len(cases)} cases is unsupported for this profile and "
+                f"IUT ({said}{also})")
+
     # -- one case ------------------------------------------------------------------
     def run_case(self, v: Vector) -> R.CaseResult:
         """The case's result: unsupported, or the verdict of the attempt that stood."""

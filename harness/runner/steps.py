@@ -300,8 +300,11 @@ class CaseRun(PartnerPlay):
             # the whole block was on the line before the stimulus went out: the stimulus
             # reached an IUT whose block had ended (e.g. written in one piece over a pipe)
             self.displaced = (self.stimuli[-1][0], self.step_index)
-        self.ref = last_t
-        if got:
+        # the rest of a block a stimulus interrupts may have come while the stimulus (a long
+        # BREAK, say) was still going out: the next step cannot follow a time already passed
+        # before the stimulus ended, so the reference does not go back behind it
+        self.ref = max(last_t, self.sent_end) if step.partial else last_t
+        if got and self.ref == last_t:
             self._ref_floor = (last_t, min(last_t, self.rx_floor[self.pos - 1]))
         self.forced += max(lo_nom, 0.0) + len(matched) * self.char
 

@@ -300,4 +300,24 @@ def _make_factory(url: str, profile, *, prespawn: int = 2) -> Factory:
 
 
 __all__ = ["BREAK", "CHAR_ERROR", "RESTART", "SETUPS", "STATUS", "CloseInfo", "IUTDied", "Transport",
-           "TransportError", "make_factory", "sim_factory", "SCHEMES", "Factory", "ProcessFactory"]
+           "TransportError", "make_factory", "preflight", "sim_factory", "SCHEMES", "Factory", "ProcessFactory"]
+
+
+def preflight(url: str, factory, params) -> None:
+    """Start the IUT once before a run: a command that cannot start, or a port that cannot
+    be opened, is found before the first case (a :class:`TransportError` naming ``url`` and
+    what the IUT said), not as 50 failed cases. Nothing to do where the transport does not
+    start the IUT, or in virtual time."""
+    if RESTART not in factory.capabilities or factory.virtual:
+        return
+    tr = factory(None, params)
+    try:
+        tr.open()
+        tr.read(tr.now() + 1.0)
+    except IUTDied as exc:
+        what = (f"the IUT ended at start-up (exit status {exc.returncode})" if exc.returncode is not None
+                else f"at start-up, {exc}")
+        raise TransportError(f"{url}: {what}"
+                             + (f": {exc.stderr_tail.strip()[-600:]}" if exc.stderr_tail.strip() else "")) from None
+    finally:
+        tr.close()

@@ -5,6 +5,8 @@ line that names the key."""
 
 from __future__ import annotations
 
+import random
+
 from ptpcert import results as R
 from ptpcert.profile import ProfileError, profile_from_dict
 from ptpcert.runner import Runner, RunOptions
@@ -22,9 +24,9 @@ def vectors():
     return _VECTORS
 
 
-def judge(raw: dict, iut: str = "sim:") -> tuple[str, list[str]]:
+def judge(raw: dict, iut: str = "sim:", sample: int = 0, seed: int = 0) -> tuple[str, list[str]]:
     """("refused", [why]) or ("run", the problems: cases that failed or ended in error, and
-    an empty suite)."""
+    an empty suite). ``sample``: run only this many of the cases, drawn with ``seed``."""
     try:
         profile = profile_from_dict(raw, "<drawn>")
     except ProfileError as exc:
@@ -32,6 +34,8 @@ def judge(raw: dict, iut: str = "sim:") -> tuple[str, list[str]]:
     cases = load_suite(profile, vectors())
     if not cases:
         return "run", ["no case at all"]
+    if sample and len(cases) > sample:
+        cases = random.Random(seed).sample(cases, sample)
     factory = make_factory(iut, profile)
     try:
         result = R.RunResult(tool_version="test", started="now")
@@ -41,7 +45,7 @@ def judge(raw: dict, iut: str = "sim:") -> tuple[str, list[str]]:
         factory.shutdown()
     bad = [f"{c.id}: {c.verdict}: {c.message[:300]}" for c in result.cases
            if c.verdict in (R.FAIL, R.ERROR) or (c.verdict == R.UNSUPPORTED and not c.message.strip())]
-    if all(c.verdict == R.UNSUPPORTED for c in result.cases):
+    if not sample and all(c.verdict == R.UNSUPPORTED for c in result.cases):
         bad.append("every case is unsupported")
     return "run", bad
 
@@ -70,3 +74,37 @@ def to_toml(raw: dict) -> str:
             lines += ["", f"[{table}.{name}]"] + [f"{k} = {_toml_value(v)}" for k, v in inner.items()]
         lines.append("")
     return "\n".join(lines)
+
+
+#: the shortest timer a real-time test sets: what a loaded 2-core machine keeps (timers of a
+#: few milliseconds would end in harness timing faults, honest errors, but no verdict)
+REALTIME_TIMER_MS = 20
+
+
+def in_real_time(proc, raw: dict) -> dict:
+    """``raw`` as a profile to run in real time: every timer at the shortest setting the
+    schema allows for the profile (as real-time tests use), but not under
+    :data:`REALTIME_TIMER_MS`, at 9600 bit/s or faster (a kilobyte at 300 bit/s takes half
+    a minute); every other key as drawn."""
+    out = {t: dict(v) for t, v in raw.items()}
+    base = out.get("iut", {}).get("baud_rate")
+    if isinstance(base, int) and base < 9600:
+        out["iut"]["baud_rate"] = 9600
+    values = {k: v for t in out.values() for k, v in t.items() if not isinstance(v, dict)}
+    defaults = {k.name: k.default for k in proc.profile_schema() if not k.required}
+    values = {**defaults, **values}
+    for key in proc.profile_schema():
+        if key.unit == "ms" and key.kind == "int" and key.applies(values):
+            low = max(int(key.low(values)), REALTIME_TIMER_MS)
+            step = key.step
+            out.setdefault(key.table, {})[key.name] = low if step == 1 or low % step == 0 else low + step - low % step
+    return out
+
+
+def exec_url(python: str, profile_path, raw: dict) -> str:
+    """The reference configured from the profile file, as an exec: IUT (with the request
+    script's place where the profile's IUT takes request scripts)."""
+    cmd = f"exec:{python} -m ptpcert.cli iut --profile {profile_path}"
+    if raw.get("rk512", {}).get("requests", "script") == "script" and raw["iut"]["procedure"].upper() == "RK512":
+        cmd += " --requests {requests}"
+    return cmd

@@ -249,12 +249,13 @@ def test_capture_json_and_hex_log_carry_everything(cap):
 
 @settings(max_examples=100, deadline=None)
 @given(captures())
-def test_pcap_carries_the_chunks_the_start_and_the_end(cap):
+def test_pcap_carries_everything(cap):
+    """The chunks, the start and the end in the link type's records; the line settings, seat
+    names, notes, marks and timing in ptpcert's own (the start record's payload, marks as
+    STATUS_CHANGE records that change no line)."""
     back = C.read_pcap(C.pcap_bytes(cap))
     assert _wire(back) == _wire(cap)
-    assert back.notes == []                         # nothing unknown was met
-    # and a second trip changes nothing at all
-    assert C.read_pcap(C.pcap_bytes(back)) == back
+    assert back == cap
 
 
 @settings(max_examples=60, deadline=None)
@@ -452,9 +453,13 @@ def test_the_pcap_records_are_laid_out_as_the_link_type_defines():
     cap = known_capture()
     recs = _records(C.pcap_bytes(cap))
     base = (START - C.EPOCH) // dt.timedelta(microseconds=1)
-    assert recs[0] == (base, 0x00, 0, 0x0001, b"")          # the start record: t = 0, nothing asserted
+    assert recs[0][:4] == (base, 0x00, 0, 0x0001)          # the start record: t = 0, nothing asserted
+    assert recs[0][4].startswith(C.START_TAG + b"\nline: 9600 8E1\n")   # and the capture's header
     assert recs[-1] == (base + round(cap.end * 1e6), 0x06, 0, 0, b"")   # CAPTURE_COMPLETE at the end
-    body = recs[1:-1]
+    marks = [r for r in recs[1:-1] if r[1] == 0x00]
+    assert [(r[0], r[4]) for r in marks] == [(base + round(m.t * 1e6), C.MARK_TAG + b"\n" + m.text.encode())
+                                             for m in cap.marks]
+    body = [r for r in recs[1:-1] if r[1] != 0x00]
     assert len(body) == len(cap.chunks)
     for (us, event, ctrl, footer, payload), c in zip(body, cap.chunks):
         assert us == base + round(c.t * 1e6)
@@ -552,7 +557,11 @@ def test_tshark_reads_a_ptpcert_pcap_with_its_bytes_and_directions(tmp_path):
     rows = [r.split("\t") for r in _tshark("-r", str(path), "-T", "fields", "-E", "separator=/t",
                                            "-e", "frame.time_epoch", "-e", "rtacser.eventtype",
                                            "-e", "rtacser.footer", "-e", "data.data").splitlines()]
-    assert len(rows) == len(cap.chunks) + 2            # the start record and CAPTURE_COMPLETE around them
+    # the start record and CAPTURE_COMPLETE around them; the marks as STATUS_CHANGE records
+    marks = [r for r in rows[1:-1] if r[1] == "0x00"]
+    rows = [r for r in rows if r not in marks]
+    assert len(marks) == len(cap.marks)
+    assert len(rows) == len(cap.chunks) + 2
     base = START.timestamp()
     assert rows[0][1:3] == ["0x00", "0x0001"] and float(rows[0][0]) == pytest.approx(base, abs=1e-6)
     assert rows[-1][1] == "0x06" and float(rows[-1][0]) == pytest.approx(base + cap.end, abs=1e-6)
@@ -629,10 +638,11 @@ def test_streaming_writers_write_as_the_recording_goes():
     give the same file as writing the finished capture at once."""
     cap = known_capture()
     text, binary = io.StringIO(), io.BytesIO()
-    hw, pw = C.HexLogWriter(text, cap), C.PcapWriter(binary, cap.start)
-    assert text.getvalue().startswith("# ptpcert-hexlog 1") and len(binary.getvalue()) == 24 + 16 + 12
+    hw, pw = C.HexLogWriter(text, cap), C.PcapWriter(binary, cap.start, cap.timing, cap)
+    assert text.getvalue().startswith("# ptpcert-hexlog 1") and len(binary.getvalue()) > 24 + 16 + 12
     for m in cap.marks:
         hw.mark(m)
+        pw.mark(m)
     for c in cap.chunks:
         hw.chunk(c)
         pw.chunk(c)

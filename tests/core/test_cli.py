@@ -86,3 +86,48 @@ def test_the_ascii_model_loads_each_name_on_first_use():
     assert m.AsciiStation.__module__ == "ptpcert.procedures.ascii.model.station"
     with pytest.raises(AttributeError):
         m.NoSuchName
+
+
+def test_profile_examples_keys_and_check_from_an_empty_directory(tmp_path):
+    """From a directory with nothing in it, a user gets a bundled example profile to start
+    from, which loads as it is; every key of each procedure's schema is listed; a profile
+    file is checked without running anything, and a typo is answered with the nearest name."""
+    from ptpcert.registry import procedures
+    from ptpcert.schema import COMMON
+
+    def here(*args):
+        return subprocess.run([PY, "-m", "ptpcert.cli", *args], cwd=tmp_path, capture_output=True, text=True,
+                              timeout=300)
+    listed = here("profile", "--list")
+    assert listed.returncode == 0
+    names = [ln.split()[0] for ln in listed.stdout.splitlines()[:-1]]
+    assert len(names) >= 3
+    for name in names:
+        ex = here("profile", "--example", name)
+        assert ex.returncode == 0 and "[iut]" in ex.stdout
+        (tmp_path / f"{name}.toml").write_text(ex.stdout)
+        ok = here("profile", "--check", f"{name}.toml")
+        assert ok.returncode == 0 and "a valid" in ok.stdout, ok.stderr
+    typo = here("profile", "--example", names[0][:-1] + "x")
+    assert typo.returncode == 2 and f"did you mean {names[0]}?" in typo.stderr
+    for proc in procedures():
+        keys = here("profile", "--keys", proc.names[0])
+        assert keys.returncode == 0
+        for k in (*COMMON, *proc.profile_schema()):
+            assert f"[{k.table}] {k.name}: {k.domain()}" in keys.stdout
+    (tmp_path / "bad.toml").write_text(here("profile", "--example", names[0]).stdout.replace(
+        "[iut]", "[iut]\nbogus_key = 1", 1))
+    bad = here("profile", "--check", "bad.toml")
+    assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "bogus_key" in bad.stderr
+
+
+def test_the_console_says_each_divergence_once():
+    """A failed case's divergence is printed once, with its step and time, not again in the
+    message's own words; the timer tolerance line is left out in virtual time when none is
+    declared."""
+    p = cli("run", "--iut", "sim:?mutant=no-dle-doubling", "--profile",
+            str(ROOT / "conformance" / "profiles" / "reference-20ms.toml"), "--select", "3964R.FIG2-5.SEND")
+    assert p.returncode == 1, p.stderr
+    tail = p.stdout[p.stdout.index("not passed:"):]
+    assert tail.count("step 7") == 1 and "step 7, at " in tail, tail
+    assert "IUT timer tolerance" not in p.stdout

@@ -28,6 +28,7 @@ from ptpcert import analysis as A
 from ptpcert import capture as C
 from ptpcert import results as R
 from ptpcert.analysis.monitor import chunks_of
+from ptpcert.cli import main as cli_main
 from ptpcert.registry import by_name
 from ptpcert.procedures.p3964.model.params import Params3964
 
@@ -287,6 +288,13 @@ def test_the_monitor_reports_a_clean_link(tmp_path):
     assert "timing resolution" in res.profile and "overall PASS" in out
     cap = C.load(line.pcap)
     assert cap.wire_bytes("a").count(0x02) >= 2 and cap.wire_bytes("b")
+    # the capture says how its times were taken: analyze of it later judges as the monitor did
+    assert cap.timing.transport == "monitor"
+    assert f"{1000 * cap.timing.resolution:.3f} ms" == res.profile["timing resolution"]
+    later = line.pcap.with_suffix(".json")
+    profile = line.pcap.parent / "link.toml"
+    assert cli_main(["analyze", str(line.pcap), "--profile", str(profile), "--json", str(later), "-q"]) == 0
+    assert R.RunResult.read_json(later).profile["timing resolution"] == res.profile["timing resolution"]
 
 
 def _broken_link(tmp: Path):

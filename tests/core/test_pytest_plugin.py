@@ -109,3 +109,57 @@ def test_real_time_counts_equal_ptpcert_runs_also_with_xdist(tmp_path):
             assert not have["failed"] and have["skipped"] == want["skipped"], (have, want, p.stdout[-3000:])
         else:
             assert have == want, (extra, have, want, p.stdout[-3000:])
+
+
+def _bad_inputs(tmp_path):
+    """name -> (what `ptpcert run` gets, what the plugin gets, a fragment both must say)."""
+    typo = tmp_path / "typo.toml"
+    typo.write_text(PROFILE.read_text() + '"3964R.D08.DLE-OTHR" = "known issue 12"\n')
+    P = str(PROFILE)
+    return {
+        "expected failure typo": (["--iut", "sim:", "--profile", str(typo)],
+                                  ["--ptpcert-iut", "sim:", "--ptpcert-profile", str(typo)],
+                                  "'3964R.D08.DLE-OTHR' matches no case"),
+        "IUT that cannot start": (["--iut", "exec:false", "--profile", P],
+                                  ["--ptpcert-iut", "exec:false", "--ptpcert-profile", P],
+                                  "exec:false: the IUT ended at start-up (exit status 1)"),
+        "tolerance nan": (["--iut", "sim:", "--profile", P, "--tolerance-ms", "nan"],
+                          ["--ptpcert-iut", "sim:", "--ptpcert-profile", P, "--ptpcert-tolerance-ms", "nan"],
+                          "(allowed: a number from 0 to 10000 milliseconds)"),
+        "tolerance -5": (["--iut", "sim:", "--profile", P, "--tolerance-ms", "-5"],
+                         ["--ptpcert-iut", "sim:", "--ptpcert-profile", P, "--ptpcert-tolerance-ms", "-5"],
+                         "(allowed: a number from 0 to 10000 milliseconds)"),
+        "unknown mutant": (["--iut", "sim:?mutant=nope", "--profile", P],
+                           ["--ptpcert-iut", "sim:?mutant=nope", "--ptpcert-profile", P],
+                           "mutant='nope' is not a broken variant"),
+        "selection of nothing": (["--iut", "sim:", "--profile", P, "--select", "NOPE*"],
+                                 ["--ptpcert-iut", "sim:", "--ptpcert-profile", P, "--ptpcert-select", "NOPE*"],
+                                 "no case matches"),
+    }
+
+
+def test_the_plugin_refuses_bad_input_as_run_does(tmp_path):
+    """For the same bad input, `ptpcert run` exits 2 with one line and the plugin stops with one
+    usage error (pytest's exit status 4), both saying the same thing, no case run, no pluggy
+    internals."""
+    for name, (run_args, plugin_args, fragment) in _bad_inputs(tmp_path).items():
+        run = subprocess.run([PY, "-m", "ptpcert.cli", "run", "-q", *run_args], cwd=tmp_path,
+                             capture_output=True, text=True, timeout=300)
+        plug = subprocess.run([PY, "-m", "pytest", "-q", "-p", "no:cacheprovider", *plugin_args], cwd=tmp_path,
+                              capture_output=True, text=True, timeout=300)
+        assert run.returncode == 2, (name, run.stderr)
+        assert plug.returncode == 4, (name, plug.stdout[-1500:], plug.stderr[-1500:])
+        run_lines = [ln for ln in run.stderr.splitlines() if ln.strip()]
+        plug_lines = [ln for ln in (plug.stdout + plug.stderr).splitlines() if ln.strip()]
+        assert len(plug_lines) == 1 and "Traceback" not in plug.stdout + plug.stderr, (name, plug_lines[:5])
+        assert plug_lines[0].startswith("ERROR: ptpcert: "), (name, plug_lines[0])
+        assert fragment in run_lines[-1] and fragment in plug_lines[0], (name, run_lines, plug_lines)
+
+
+def test_a_profile_without_an_iut_is_said(tmp_path):
+    """--ptpcert-profile without --ptpcert-iut (or with an empty one) would collect no case
+    at all: a usage error says so."""
+    for args in (["--ptpcert-profile", str(PROFILE)], ["--ptpcert-iut=", "--ptpcert-profile", str(PROFILE)]):
+        p = subprocess.run([PY, "-m", "pytest", "-q", "-p", "no:cacheprovider", *args], cwd=tmp_path,
+                           capture_output=True, text=True, timeout=300)
+        assert p.returncode == 4 and "ERROR: ptpcert: --ptpcert-" in p.stdout + p.stderr, p.stdout + p.stderr

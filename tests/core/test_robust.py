@@ -68,7 +68,56 @@ def bad_inputs(root: Path) -> dict[str, tuple[list[str], list[str]]]:
     (root / "a-file").write_text("")
     run = ["run", "--iut", "sim:", "--profile", P]
     fuzz = ["fuzz", "--iut", "sim:", "--profile", P]
+    # output paths that are not regular files: a FIFO, a symlink to a device (checked before the
+    # capture is even read, so the capture named need not exist)
+    fifo, link = root / "a-fifo", root / "null-link.json"
+    os.mkfifo(fifo)
+    link.symlink_to("/dev/null")
+    cap = str(root / "cap.pcap")
+    analyze = ["analyze", cap, "--profile", P]
+    monitor = ["monitor", "--a", "loop://", "--b", "loop://", "--profile", P]
+    other = root / "v-ascii"
+    other.mkdir()
+    (other / "x.toml").write_text((ROOT / "vectors" / "ascii" / "buf-fifo.toml").read_text())
     return {
+        # messages that name the right thing
+        "monitor --capture x.bin": (monitor + ["--capture", str(root / "x.bin")],
+                                    ["--capture", "x.bin", "name it .pcap"]),
+        "run --vectors-only, none for the procedure": (run + ["--vectors", str(other), "--vectors-only"],
+                                                       ["no case to run", "v-ascii", "is for 3964/3964R"]),
+        # every command that writes a file checks every output path first, and never replaces
+        # a device or a FIFO with a regular file
+        "analyze --json /dev/null": (analyze + ["--json", "/dev/null"], ["--json /dev/null", "not a regular file"]),
+        "analyze --junit FIFO": (analyze + ["--junit", str(fifo)], ["--junit", "a-fifo", "not a regular file"]),
+        "analyze --html symlink to a device": (analyze + ["--html", str(link)],
+                                               ["--html", "null-link.json", "not a regular file"]),
+        "analyze --html in /proc": (analyze + ["--html", "/proc/x/y"], ["--html /proc/x/y", "cannot be created"]),
+        "analyze, one file, two reports": (analyze + ["--html", str(root / "s.out"), "--junit", str(root / "s.out")],
+                                           ["--html", "is also --junit", "give each report its own file"]),
+        "analyze over its own capture": (analyze + ["--json", cap], ["--json", "is also the file read"]),
+        "analyze --tolerance-ms nan": (analyze + ["--tolerance-ms", "nan"], ["--tolerance-ms", "from 0 to 60000 ms"]),
+        "analyze --tolerance-ms -5": (analyze + ["--tolerance-ms", "-5"], ["--tolerance-ms", "from 0 to 60000 ms"]),
+        "analyze --resolution-ms nan": (analyze + ["--resolution-ms", "nan"], ["--resolution-ms", "from 0 to 60000"]),
+        "analyze --resolution-ms 1e308": (analyze + ["--resolution-ms", "1e308"], ["--resolution-ms", "from 0 to"]),
+        "analyze --resolution-ms -1": (analyze + ["--resolution-ms", "-1"], ["--resolution-ms", "from 0 to"]),
+        "monitor --duration nan": (monitor + ["--duration", "nan"], ["--duration", "from 0.001 to 604800 seconds"]),
+        "monitor --duration -1": (monitor + ["--duration", "-1"], ["--duration", "from 0.001 to 604800"]),
+        "monitor --fifo -3": (monitor + ["--fifo", "-3"], ["--fifo", "from 1 to 4096 characters"]),
+        "monitor --latency-ms -1": (monitor + ["--latency-ms", "-1"], ["--latency-ms", "from 0 to 60000 ms"]),
+        "monitor --capture /dev/null": (monitor + ["--capture", "/dev/null"], ["--capture /dev/null", "not a regular"]),
+        "monitor --capture FIFO": (monitor + ["--capture", str(fifo)], ["--capture", "a-fifo", "not a regular"]),
+        "monitor --html in /proc": (monitor + ["--html", "/proc/x/y"], ["--html /proc/x/y", "cannot be created"]),
+        "monitor, capture and report one file": (monitor + ["--capture", str(root / "m.pcap"), "--json",
+                                                            str(root / "m.pcap")], ["--capture", "is also a report"]),
+        "capture convert onto /dev/null": (["capture", "convert", cap, "/dev/null", "--to", "hexlog"],
+                                           ["/dev/null", "not a regular file"]),
+        "capture convert onto a FIFO": (["capture", "convert", cap, str(fifo), "--to", "hexlog"],
+                                        ["a-fifo", "not a regular file"]),
+        "capture convert onto its input": (["capture", "convert", cap, cap], ["cap.pcap", "is also the input"]),
+        "fuzz --export in /proc": (fuzz + ["--export", "/proc/x/y"], ["--export /proc/x/y", "cannot be created"]),
+        "fuzz --export a file": (fuzz + ["--export", str(root / "a-file")], ["--export", "not a directory"]),
+        "fuzz --database in /proc": (fuzz + ["--database", "/proc/x/y"], ["database /proc/x/y", "cannot be created"]),
+        "fuzz --database a file": (fuzz + ["--database", str(root / "a-file")], ["database", "not a directory"]),
         # files that are not UTF-8: profiles and vectors, under each command, with the file name
         "profile UTF-16": (["run", "--iut", "sim:", "--profile", str(root / "utf16.toml")],
                            ["utf16.toml", "is not UTF-8 text", "save the profile as UTF-8"]),
@@ -104,7 +153,7 @@ def bad_inputs(root: Path) -> dict[str, tuple[list[str], list[str]]]:
         "report, not UTF-8": (["report", str(root / "noise.json")], ["noise.json", "is not UTF-8 text"]),
         "report on a device": (["report", "/dev/zero"], ["/dev/zero", "is a device, not a results file"]),
         "report over its own input": (["report", str(root / "good.json"), "--html", str(root / "good.json")],
-                                      ["--html", "is also the results file read"]),
+                                      ["--html", "is also the file read"]),
         # numeric options
         "--tolerance-ms nan": (run + ["--tolerance-ms", "nan"], ["--tolerance-ms", "from 0 to 10000 milliseconds"]),
         "--tolerance-ms -5": (run + ["--tolerance-ms", "-5"], ["--tolerance-ms", "from 0 to 10000"]),
@@ -469,3 +518,24 @@ def test_a_fault_of_ptpcert_during_the_run_still_gives_every_report(tmp_path, mo
     assert verdicts[0] == "pass" and set(verdicts[1:]) == {"error"} and len(verdicts) > 3
     assert "harness fault: RuntimeError: a bug in the loop" in data["cases"][1]["message"]
     assert (tmp_path / "j.xml").exists() and (tmp_path / "r.html").exists()
+
+
+def test_a_file_writer_never_replaces_a_device_or_a_fifo(tmp_path):
+    """Below the commands' checks, the writers themselves refuse a target that exists and is
+    not a regular file (renaming a temporary file over a device, as root, replaces it)."""
+    import stat
+
+    from ptpcert import capture as C
+    from ptpcert.results import write_atomic
+
+    fifo = tmp_path / "f"
+    os.mkfifo(fifo)
+    link = tmp_path / "null"
+    link.symlink_to("/dev/null")
+    for target in (fifo, link):
+        with pytest.raises(OSError, match="not a regular file"):
+            write_atomic(target, "{}")
+        with pytest.raises(C.CaptureError, match="not a regular file"):
+            C.save(C.Capture([], {"a": "a", "b": "b"}), target, "hexlog")
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode) and stat.S_ISCHR(os.stat("/dev/null").st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f", "null"]

@@ -48,8 +48,10 @@ def test_one_systematic_defect_is_shown_once_at_the_top_with_its_count(mutant_ru
     g = groups[0]
     assert g["count"] == len(failed) and sorted(g["cases"]) == sorted(c.id for c in failed)
     # what was due (STX, 02) and what the IUT sent instead (NAK, 15), after the tester's NAK
-    assert "NAK" in g["description"] and "sends 15" in g["description"] and "02 is due" in g["description"]
-    assert g["description"].startswith(f"{len(failed)} cases: ")
+    # in one sentence, with the first case's real bytes and time
+    first = next(c for c in run.cases if c.id == g["cases"][0])
+    assert g["description"].startswith(f"{len(failed)} cases (first: {first.id}): at {1000 * first.divergence.time:.1f} ms")
+    assert "after the tester's NAK (15), the IUT sent 15 where 02" in g["description"], g["description"]
     # console: the deviation before the case list, once
     out = p.stdout
     assert out.count(g["description"]) == 1
@@ -133,3 +135,30 @@ def test_the_signature_survives_other_payloads_and_timings():
     # a passing case is in no group
     ok = R.CaseResult("OK", "t", "ref", "rule", "g", "both", verdict=R.PASS)
     assert R.root_causes([ok]) == []
+
+
+# ------------------------------------------------------------------ the sentences (issue 25, item 14)
+
+
+def test_the_sentence_says_what_the_iut_sent_with_real_bytes_and_times():
+    e = _failed("E", "02", "received 15", b"\x15", t=0.0123)
+    silence = _failed("S", "", "received 15 at 1.0 ms", b"\x02\x41\x42\x43\x10\x03\x13", t=0.2)
+    silence.divergence = R.Divergence(1, 0.2, "silence for 2.5*ADT", "received 15 at 1.0 ms")
+    model = _failed("M", "", "", b"\x42", t=0.3247)
+    model.divergence = R.Divergence(-1, 0.3247, "what the reference model does on the same line",
+                                    "the IUT's byte 55 is 41; the model sends 15 (after 41 41 41 41)")
+    texts = {g["cases"][0]: g["description"] for g in R.root_causes([e, silence, model], control_names)}
+    assert texts["E"] == "1 case (first: E): at 12.3 ms, after the tester's NAK (15), the IUT sent 15 where 02 is due"
+    assert texts["S"] == ("1 case (first: S): at 200.0 ms, after the tester's character 13, the IUT sent "
+                          "15 at 1.0 ms where silence for 2.5*ADT is due")
+    assert texts["M"] == ("1 case (first: M): at 324.7 ms, after the tester's character 42, the IUT sent 41 as its "
+                          "byte 55 (after 41 41 41 41) where the reference model fed the same line sends 15")
+    for t in texts.values():   # none of the masked words the issue quotes
+        assert " N " not in t and "the IUT the IUT" not in t and "received" not in t
+
+
+def test_the_groups_still_mask_numbers_for_grouping():
+    a = _failed("A", "02", "received 15", b"\x15", t=0.01)
+    b = _failed("B", "02", "received 15", b"\x15", t=0.5)
+    groups = R.root_causes([a, b], control_names)
+    assert len(groups) == 1 and groups[0]["description"].startswith("2 cases (first: A): at 10.0 ms")

@@ -29,6 +29,9 @@ def test_problem_names_the_allowed_values_and_the_table():
     assert problem(pair, []) is None and problem(pair, [3, 3]) is None and problem(pair, [4, 3])
     sub = Key("s", "x", "subset", "s", choices=("a", "b"))
     assert problem(sub, ["b"]) is None and problem(sub, []) and problem(sub, ["a", "a"]) and problem(sub, ["c"])
+    maybe_none = Key("s", "x", "subset", "s", choices=("a", "b"), size=(0, 2))   # [] allowed (issue 25, item 13)
+    assert problem(maybe_none, []) is None and problem(maybe_none, ["a", "b"]) is None
+    assert problem(maybe_none, ["a", "a"]) and problem(maybe_none, "a") and "a list of" in problem(maybe_none, ["c"])
 
 
 @pytest.mark.parametrize("proc", PROCS, ids=lambda p: p.id)

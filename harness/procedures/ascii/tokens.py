@@ -74,4 +74,5 @@ def byte_names(params: Mapping[str, Any]) -> dict[int, str]:
 
 def report_view(groups: tuple[str, ...]) -> ReportView:
     """The reports' view of an ASCII driver's runs with the case groups ``groups``."""
-    return ReportView(tokens=tokens, groups=tuple(groups), names=byte_names)
+    return ReportView(tokens=tokens, groups=tuple(groups), names=byte_names,
+                      codes=frozenset({"xon", "xoff", "end_chars"}))

@@ -39,7 +39,9 @@ class P3964Procedure(Procedure):
     title = "3964/3964R"
     names = ("3964R", "3964")
     groups = GROUPS
-    time_names = ("CDT", "ADT", "NAKTIM", "BLOCK")
+    time_names = ("CDT", "ADT", "NAKTIM", "BLOCK", "JOB")
+    #: JOB is no timer of the IUT's but a bound derived from its attempts (:meth:`timer_env`)
+    iut_timers = ("CDT", "ADT", "NAKTIM", "BLOCK")
     #: a receiver's character delay time: the gap it still waits for a further character
     max_gap = "CDT"
     byte_names = {name: byte for byte, name in codec.CONTROL_NAMES.items()}
@@ -107,8 +109,14 @@ class P3964Procedure(Procedure):
         return frozenset(f.name for f in fields(Params3964) if f.init)
 
     def timer_env(self, params: Params3964) -> dict[str, float]:
-        return {"CDT": params.cdt, "ADT": params.adt, "CHAR": params.char_time,
-                "NAKTIM": T_NAKTIM, "BLOCK": T_BLOCK}
+        """The timers, and JOB: the longest one send job of the IUT can take with its attempts
+        (Table 2-4), each transmission attempt with every setup attempt timing out, a block of
+        1024 data DLEs (doubled) and ADT for the acknowledgement - for a window that must hold
+        every attempt the profile allows."""
+        char = params.char_time
+        attempt = params.setup_attempts * (params.adt + 2 * char) + 2060 * char + params.adt + params.cdt
+        return {"CDT": params.cdt, "ADT": params.adt, "CHAR": char,
+                "NAKTIM": T_NAKTIM, "BLOCK": T_BLOCK, "JOB": params.transmission_attempts * attempt}
 
     def edge_timers(self, params: Params3964) -> tuple[float, ...]:
         return (params.cdt, params.adt)
@@ -201,6 +209,21 @@ class P3964Procedure(Procedure):
             if not host.station.request_send(0.0, payload):
                 raise ProcedureError("send", f"a block carries 1 to 1024 bytes, not {len(payload)}")
         return host
+
+    def unsupported_reason(self, vector, profile, capabilities, factory) -> str | None:
+        """A suite case that could not be built for the profile says why in
+        ``extra.unsupported``; a vector whose steps need at least so many attempts (a
+        repetition) names them in ``[extra.needs]`` (e.g. ``transmission_attempts = 2``)."""
+        why = vector.extra.get("unsupported")
+        if why:
+            return why
+        if profile is None:
+            return None
+        for key, least in vector.extra.get("needs", {}).items():
+            have = getattr(profile.params, key)
+            if have < least:
+                return f"needs {key} >= {least} (its steps repeat); the profile has {have}"
+        return None
 
     def partner_done(self, host: Host) -> bool:
         # waiting for a repetition looks like idle on the line (§8.5 item 7)

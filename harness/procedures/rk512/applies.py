@@ -11,6 +11,11 @@ from ptpcert.scenario import expand
 from .fit import tres_shortfall
 from .iut import script_lines
 
+#: the link's attempt counts a case may need at least (``needs``), and why
+_ATTEMPT_NEEDS = {"setup_attempts": "a crossing STX uses up the IUT's first setup attempt (Fig. 2-8 counts "
+                                    "its next STX as the 2nd, open point A21): whether it tries again after it "
+                                    "is open"}
+
 
 def unsupported_reason(proc, vector, profile, capabilities, factory) -> str | None:
     """Why the case cannot run against the profile's IUT (None: it can)."""
@@ -35,6 +40,12 @@ def unsupported_reason(proc, vector, profile, capabilities, factory) -> str | No
     for key in ("db_bytes", "byte_area_bytes", "cell_area_cells"):
         if key in needs and needs[key] > getattr(p, key):
             return f"needs {key} >= {needs[key]}; the profile's [rk512] has {getattr(p, key)}"
+    for key, why in _ATTEMPT_NEEDS.items():
+        if key in needs and needs[key] > getattr(p, key):
+            return f"needs {key} >= {needs[key]} ({why}); the profile's [iut] has {getattr(p, key)}"
+    if "expressible" in needs and needs["expressible"] in p.inexpressible_requests:
+        return (f"needs a request with {needs['expressible']}; the profile's [rk512] inexpressible_requests "
+                "says the IUT's request interface cannot express it")
     for key, rng in (("db", p.db_range), ("dx", p.dx_range)):
         for n in needs.get(key, []):
             if not rng or not rng[0] <= n <= rng[1]:

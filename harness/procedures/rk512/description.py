@@ -21,9 +21,11 @@ A vector's ``extra`` table carries ``requests`` (the script's lines), ``results`
 RESULT/FETCHED lines expected, in order; alternatives separated by `` || ``, a FETCHED line
 ending in `` *`` accepts any data) and ``needs`` (what the IUT's memory must offer: ``db``,
 ``dx`` numbers, ``db_bytes``, ``byte_area_bytes``, ``cell_area_cells`` at least, ``pattern``
-for the pattern start contents, ``cell_fetch_bytes``: the bytes of timers/counters a partner's
-FETCH must be served, ``silent``: [rk512] keys the profile must leave out, as the vector
-accepts either reading of them).
+for the pattern start contents; ``setup_attempts`` at least; ``expressible``: the invalid
+request the case hands the IUT, which its interface must be able to express;
+``cell_fetch_bytes``: the bytes of timers/counters a partner's FETCH must be served;
+``silent``: [rk512] keys the profile must leave out, as the vector accepts either reading of
+them).
 """
 
 from __future__ import annotations
@@ -59,7 +61,8 @@ READING_NAMES = tuple(f"AMB-{i:02d}" for i in range(1, 38)) + tuple(f"N{i}" for 
 
 _LINE_FIELDS = tuple(f.name for f in fields(Params3964) if f.init and f.name != "procedure")
 _RK_FIELDS = ("link", "response_time_ms", "roles", "requests", "memory", "db_range", "dx_range", "db_bytes",
-              "byte_area_bytes", "cell_area_cells", "cell_fetch_limit_bytes", "serves_dx_fetch")
+              "byte_area_bytes", "cell_area_cells", "inexpressible_requests", "cell_fetch_limit_bytes",
+              "serves_dx_fetch")
 _EMPTY_SCRIPT = "requests-none.txt"
 RECEIVE = MacroStep(keys=frozenset({"after", "within", "optional", "absent_grade", "or", "or_grade", "or_end", "since",
                                     "note"}),

@@ -10,7 +10,7 @@ from dataclasses import replace
 from ptpcert.procedures.p3964.link import LINK_SCHEMA
 from ptpcert.schema import Key
 
-from .model.params import LINKS, MEMORY_MODES, REQUEST_MODES, ROLES
+from .model.params import INVALID_REQUESTS, LINKS, MEMORY_MODES, REQUEST_MODES, ROLES
 
 _AREA = 65536
 #: the shortest T_RES by baud rate (12-bit characters): 12 characters, the shortest response with
@@ -49,4 +49,9 @@ SCHEMA: tuple[Key, ...] = tuple(
     Key("serves_dx_fetch", "rk512", "bool", "whether a partner's FETCH from a DX is served (a CP 341 lists "
         "no DX source) or refused; left out: either is accepted (AMB-20)", ref="§6.3.2 Table 6-10",
         default=None),
+    Key("inexpressible_requests", "rk512", "subset", "the invalid requests the IUT's request interface cannot "
+        "even express (a typed API that refuses them before they become requests): len-1025, len-0 (LEN over "
+        "1024, of 0), db-0, flag-bit-8, cpu-5, send-to-flags; their local-check cases are unsupported",
+        ref="§6.3.2 Tables 6-4 to 6-6; Table 8-1 class 05; Table 8-2 16#1E41", default=[],
+        choices=INVALID_REQUESTS, size=(0, len(INVALID_REQUESTS)), when={"requests": ("script",)}),
 )

@@ -34,7 +34,9 @@ def _steps_table(c: R.CaseResult) -> str:
         rest = {k: v for k, v in s.items() if k not in ("kind", "data", kind, "note")}
         what = str(s.get(kind, s.get("data", "")))
         what = abbreviate_hex(what)
-        detail = ", ".join(f"{k} {v}" for k, v in rest.items())
+        # as a vector writes a step: a flag alone where it is set, numbers and words as they are
+        detail = ", ".join(k if v is True else f"{k} = {str(v).lower()}" if isinstance(v, bool) else f"{k} {v}"
+                           for k, v in rest.items())
         cls = ' class="div-step"' if i == div_step else ""
         rows.append(f"<tr{cls}><td>{i + 1}</td><td>{esc(kind)}</td><td>{esc(what)}</td>"
                     f"<td>{esc(detail)}</td><td>{esc(s.get('note', ''))}</td></tr>")

@@ -31,39 +31,15 @@ def asset(name: str) -> str:
     return resources.files("ptpcert.report.html").joinpath("assets", name).read_text("utf-8")
 
 
-def _profile_rows(p: dict[str, Any]) -> list[tuple[str, str]]:
-    """The IUT's profile as (name, value) rows for people."""
+def _profile_rows(p: dict[str, Any], view: ReportView) -> list[tuple[str, str]]:
+    """The IUT's profile as (key, value) rows in the profile file's words (the view knows
+    which keys are character codes); the expected failures with their reasons."""
     if not p:
         return [("profile", "—")]
-    rows: list[tuple[str, str]] = []
-    seen = set()
-
-    def take(*keys):
-        seen.update(keys)
-        return [p.get(k) for k in keys]
-
-    proc, prio = take("procedure", "priority")
-    rows.append(("procedure", f"{proc if proc is not None else '?'}, priority {prio if prio is not None else '?'}"))
-    cdt, adt = take("character_delay_ms", "acknowledgement_delay_ms")
-    rows.append(("timers", f"character delay time CDT {cdt} ms, acknowledgement delay time ADT {adt} ms"))
-    sa, ta = take("setup_attempts", "transmission_attempts")
-    rows.append(("attempts", f"{sa} connection set-up, {ta} transmission"))
-    baud, db, par, sb = take("baud_rate", "data_bits", "parity", "stop_bits")
-    rows.append(("character frame", f"{baud} baud, {db} data bits, parity {par}, {sb} stop bit{'s' if sb != 1 else ''}"))
-    st, lc, sfs = take("send_trigger", "line_conditions", "status_from_stderr")
-    rows.append(("send trigger", str(st)))
-    rows.append(("line conditions", str(lc)))
-    rows.append(("STATUS from stderr", str(sfs).lower() if isinstance(sfs, bool) else str(sfs)))
-    (tt,) = take("timer_tolerance_ms")
-    rows.append(("IUT timer tolerance", f"{tt or 0:g} ms " + ("(declared: widens the late side of windows that "
-                                                             "end on an IUT timer)" if tt else "(none declared)")))
+    rows = view.settings(p)
     xf = p.get("expected_failures") or {}
-    seen.add("expected_failures")
     if xf:
         rows.append(("expected failures", "; ".join(f"{k}: {v}" for k, v in xf.items())))
-    for k, v in p.items():
-        if k not in seen:
-            rows.append((k.replace("_", " "), str(v)))
     return rows
 
 
@@ -72,7 +48,7 @@ def _table(rows: list[tuple[str, str]], raw: bool = False) -> str:
         f"<tr><th>{esc(k)}</th><td>{v if raw else esc(v)}</td></tr>" for k, v in rows) + "</table>"
 
 
-def _header(run: R.RunResult) -> str:
+def _header(run: R.RunResult, view: ReportView) -> str:
     counts = run.counts()
     n = len(run.cases)
     verdict = run.verdict
@@ -93,7 +69,7 @@ def _header(run: R.RunResult) -> str:
     if run.harness_scheduling:
         info.append(("harness scheduling", run.harness_scheduling))
     out.append('<div class="cols"><div><h2>Run</h2>' + _table(info) + "</div>"
-               '<div><h2>IUT profile</h2>' + _table(_profile_rows(run.profile)) + "</div></div></header>")
+               '<div><h2>IUT profile</h2>' + _table(_profile_rows(run.profile, view)) + "</div></div></header>")
     return "".join(out)
 
 
@@ -177,7 +153,7 @@ def render(run: R.RunResult, view: ReportView | None = None) -> str:
     return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
             f"<title>{esc(title)}</title><style>\n{asset('report.css')}</style></head><body>"
-            + _header(run) + _filter(run) + _summary(run, view) + traceability_section(run)
+            + _header(run, view) + _filter(run) + _summary(run, view) + traceability_section(run)
             + '<section id="cases"><h2>Cases (failures first)</h2>' + cases + "</section>"
             + legend(used)
             + f"<footer>ptpcert {esc(run.tool_version)} · results schema {esc(run.schema)} · "

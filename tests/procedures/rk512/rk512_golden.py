@@ -221,7 +221,7 @@ def examples():
         "RK512.EX1.SEND-10.PASSIVE", "Example 1, the IUT passive: SEND 10 bytes to DB 10, response 00 00 00 00",
         ref1, rule1, "passive-send", "receiver",
         tester_block(EX1_CMD, note="header and 10 data bytes, DLE ETX, BCC 42") + iut_block(response(0)),
-        needs={"db": [10]}, provenance="[S][F]"))
+        needs={"db": [10], "db_bytes": 10}, provenance="[S][F]"))
     out.append(vector(
         "RK512.EX1.SEND-10.ACTIVE", "Example 1, the IUT active: its SEND 10 bytes to DB 10, byte for byte",
         ref1, rule1, "active-command", "sender",
@@ -240,7 +240,7 @@ def examples():
         "§2.2.3 Figs. 2-13 ('only with BCC'); §2.3.1 Table 2-3", rule1 + " Over 3964 the blocks have no BCC.",
         "passive-send", "receiver",
         tester_block(EX1_CMD, bcc=False) + iut_block(response(0), bcc=False),
-        link="3964", needs={"db": [10]}, readings=["AMB-27"], provenance="[S][I]"))
+        link="3964", needs={"db": [10], "db_bytes": 10}, readings=["AMB-27"], provenance="[S][I]"))
 
     d200 = bytes(range(200))
     first = header("A", "D", 10, 0, 100) + d200[:128]
@@ -252,7 +252,7 @@ def examples():
         "RK512.EX2.SEND-200.PASSIVE", "Example 2, the IUT passive: SEND 200 bytes, one continuation",
         ref2, rule2, "passive-send", "receiver",
         tester_block(first) + iut_block(response(0)) + tester_block(cont) + iut_block(response(0, first=False)),
-        needs={"db": [10]}, provenance="[S][F]"))
+        needs={"db": [10], "db_bytes": 200}, provenance="[S][F]"))
     line2 = "send DB10:DW0:LEN=200:DATA=" + d200.hex().upper()
     out.append(vector(
         "RK512.EX2.SEND-200.ACTIVE", "Example 2, the IUT active: its SEND of 200 bytes, one continuation",
@@ -275,7 +275,7 @@ def examples():
         "RK512.EX3.FETCH-6.PASSIVE", "Example 3, the IUT passive: the 6 bytes written first, then fetched",
         ref3, rule3, "passive-fetch", "receiver",
         tester_send(header("A", "D", 10, 0, 3), d6) + tester_block(cmd3) + iut_block(response(0, data=d6)),
-        needs={"db": [10]}, provenance="[S][F]"))
+        needs={"db": [10], "db_bytes": 6}, provenance="[S][F]"))
 
     d300 = bytes((0x80 + i) & 0xFF for i in range(300))
     cmd4 = header("E", "D", 10, 0, 150)
@@ -289,7 +289,7 @@ def examples():
     out.append(vector(
         "RK512.EX4.FETCH-300.PASSIVE", "Example 4, the IUT passive: 300 bytes written, then fetched in three chunks",
         ref4, rule4, "passive-fetch", "receiver", tester_send(header("A", "D", 10, 0, 150), d300) + ex4,
-        needs={"db": [10]}, provenance="[S][F]"))
+        needs={"db": [10], "db_bytes": 300}, provenance="[S][F]"))
     out.append(vector(
         "RK512.EX4.FETCH-300.ACTIVE", "Example 4, the IUT active: its FETCH of 300 bytes, two continuations",
         ref4, rule4, "active-command", "sender",
@@ -333,7 +333,7 @@ def examples():
         "link", "receiver",
         tester_block(header("A", "D", 16, 16, 2) + bytes.fromhex("10203010")) + iut_block(response(0))
         + tester_fetch(header("E", "D", 16, 16, 2), bytes.fromhex("10203010")),
-        needs={"db": [16]}, provenance="[S]"))
+        needs={"db": [16], "db_bytes": 36}, provenance="[S]"))
     for vid, title, line, frame, resp_, results, reads in (
             ("RK512.EX6.SEND-DX.ACTIVE", "Example 6: SEND AB CD to DX 5 ('O' 'D'), BCC 9A", "send DX5:DW0:LEN=2:DATA=ABCD",
              header("O", "D", 5, 0, 1) + b"\xab\xcd", response(0), None, ["AMB-03"]),
@@ -418,6 +418,27 @@ def sizes():
     return out
 
 
+def fits(steps) -> dict | None:
+    """What the IUT's memory must offer for the first frames the tester primes to be valid
+    but for the field a vector is about (whichever field a responder checks first): the DB
+    of each frame that names one (type D, or a type letter that is wrong) with the words it
+    addresses (bytes 5/6 and 7/8), the flag byte (byte 9) where byte 10 names a flag bit
+    (0..7)."""
+    dbs, size, flag = set(), 0, 0
+    for s in steps:
+        f = bytes.fromhex(s["prime"]) if isinstance(s, dict) and "prime" in s else b""
+        if len(f) < 10 or f[0] == 0xFF or f[3] in b"XEAMTZ" or not f[4]:
+            continue
+        dbs.add(f[4])
+        size = max(size, 2 * (f[5] + max(1, (f[6] << 8) | f[7])))
+        if f[8] != 0xFF and (f[9] & 0x0F) <= 7:
+            flag = max(flag, f[8] + 1)
+    need = {"db": sorted(dbs), "db_bytes": size} if dbs else {}
+    if flag:
+        need["byte_area_bytes"] = flag
+    return need or None
+
+
 def class06():
     out = []
     R06 = "§8.3 Table 8-1 {c}; §8.4 Table 8-3 ({r:02X}h)"
@@ -428,7 +449,8 @@ def class06():
             f"RK512.ERR06.{c[3:]}", f"{c}: {what}", R06.format(c=c, r=reatel), rule, "passive-header",
             "receiver", list(pre) + [prime(frame), receive(response(reatel, first), alternatives=alternatives,
                                                          alt_grade="informational" if alternatives else None)],
-            iut=[c] if strict else [], optional=([] if strict else [c]) + list(optional), needs=needs,
+            iut=[c] if strict else [], optional=([] if strict else [c]) + list(optional),
+            needs={**(fits(list(pre) + [prime(frame)]) or {}), **(needs or {})} or None,
             readings=readings, setup=setup, params=params, provenance="[S]"))
     first200 = header("A", "D", 11, 0, 100) + seq(128)
     pre = [prime(first200), receive(response(0))]
@@ -494,7 +516,7 @@ def class06():
         "§8.3 Table 8-1 16#0612, 16#0709; §2.2.2 'Connection setup for sending', Fig. 2-10",
         "When the link cannot deliver the response (setup attempts exhausted) the responder reports 16#0612 after the link's event.",
         "passive-header", "receiver", steps, iut=["16#0612", "16#0702|16#0709"], optional=["16#0701"],
-        params={"setup_attempts": 6}, binds=("link", "setup_attempts"), provenance="[S]"))
+        params={"setup_attempts": 6}, binds=("link", "setup_attempts"), needs=fits(steps), provenance="[S]"))
     return out
 
 
@@ -540,14 +562,15 @@ def duplex_timing_dle():
          receive(response(0), alternatives=[own]), prime(response(0))],
         requests=[line], results=[f"RESULT {line.replace(' ', ':', 1)} OK"], optional=["16#0702", "16#0701"],
         params={"priority": "low"}, binds=("link", "priority"), readings=["AMB-31"], provenance="[S][F]",
-        needs={"db": [11]}))
+        needs={"db": [11], "db_bytes": 20, "setup_attempts": 2}))
     out.append(vector(
         "RK512.QFD.TESTER-SEND-WHILE-WAITING", "The tester SENDs while the IUT waits for its response",
         "§2.2.3 'Quasi-full-duplex', Fig. 2-17",
         "A station that waits for its response still serves the partner's command, then takes its own response.",
         "quasi-full-duplex", "both",
         [receive(own, within="STARTUP"), prime(theirs), receive(response(0)), prime(response(0))],
-        requests=[line], results=[f"RESULT {line.replace(' ', ':', 1)} OK"], needs={"db": [11]}, provenance="[S][F]"))
+        requests=[line], results=[f"RESULT {line.replace(' ', ':', 1)} OK"], needs={"db": [11], "db_bytes": 20},
+        provenance="[S][F]"))
     two = "send DB10:DW0:LEN=200"
     out.append(vector(
         "RK512.TRES.ACTIVE-EXPIRY", "T_RES at the requester: no response, 16#0A05, the continuation never sent",
@@ -566,7 +589,7 @@ def duplex_timing_dle():
         "passive-timing", "receiver",
         [prime(first), receive(response(0)), {"wait": "TRES + 2*ADT"}, prime(continuation("A", "D", seq(2, 0x90))),
          receive(response(0x36, first=False), optional=True, absent_grade="informational")],
-        optional=["16#0A05", "16#060E"], needs={"db": [11]}, readings=["AMB-18"], provenance="[F][I]"))
+        optional=["16#0A05", "16#060E"], needs={"db": [11], "db_bytes": 130}, readings=["AMB-18"], provenance="[F][I]"))
     d16 = bytes([0x10, 0x20, 0x30, 0x10]) * 8
     out.append(vector(
         "RK512.DLE.HEADER", "DLE doubling in the header: DB 16, DW 16, 16 words (10h in bytes 5, 6 and 8)",

@@ -20,6 +20,11 @@ LINKS = ("3964R", "3964")
 ROLES = ("passive", "active")
 REQUEST_MODES = ("script", "none")
 MEMORY_MODES = ("pattern", "unknown")
+#: the invalid requests of the local checks (§6.3.2 Tables 6-4 to 6-6; Table 8-1 class 05,
+#: Table 8-2 16#1E41) by name: a length over 1024 or of 0, DB 0, a coordination-flag bit over
+#: 7, a CPU over 4, a SEND to the flags. A typed request interface may be unable to express
+#: some of them (the profile's ``inexpressible_requests``).
+INVALID_REQUESTS = ("len-1025", "len-0", "db-0", "flag-bit-8", "cpu-5", "send-to-flags")
 _MAX_AREA = 65536
 _LINE_FIELDS = frozenset(f.name for f in fields(Params3964) if f.init)
 
@@ -92,6 +97,9 @@ class Rk512Params:
       served (a CP 341: 32, §6.3.2 "Providing data"); ``serves_dx_fetch``: whether a
       partner's FETCH from a DX is served (Table 6-10 lists no DX source). None: not
       declared, the readings of open point AMB-20 decide (cases accept both).
+    * ``inexpressible_requests``: the invalid requests (of :data:`INVALID_REQUESTS`) the
+      station's request interface cannot even express (a fact about its interface, not a
+      parameter of the manual).
     """
 
     link: str = "3964R"
@@ -107,6 +115,7 @@ class Rk512Params:
     cell_area_cells: int = 256
     cell_fetch_limit_bytes: int | None = None
     serves_dx_fetch: bool | None = None
+    inexpressible_requests: tuple[str, ...] = ()
     # Derived, filled in by __post_init__.
     t_res: float = field(init=False, repr=False, compare=False)
     #: the shortest T_RES the IUT may have: ``t_res`` where the profile declares it, else
@@ -150,6 +159,11 @@ class Rk512Params:
                                      "an even number of bytes (2 per timer or counter)")
         if self.serves_dx_fetch is not None and not isinstance(self.serves_dx_fetch, bool):
             raise ParameterError("serves_dx_fetch", self.serves_dx_fetch, "true or false")
+        bad = tuple(self.inexpressible_requests) if isinstance(self.inexpressible_requests, (list, tuple)) else None
+        if bad is None or len(set(bad)) != len(bad) or any(b not in INVALID_REQUESTS for b in bad):
+            raise ParameterError("inexpressible_requests", self.inexpressible_requests,
+                                 "a list of " + ", ".join(INVALID_REQUESTS) + " (each once)")
+        object.__setattr__(self, "inexpressible_requests", bad)
         ms = self.response_time_ms
         if ms is not None and ms < shortest_response_ms(self.line):
             raise ParameterError("response_time_ms", ms, f"at least {shortest_response_ms(self.line)} ms at "
@@ -213,6 +227,8 @@ class Rk512Params:
         for key in ("response_time_ms", "cell_fetch_limit_bytes", "serves_dx_fetch"):
             if out[key] is None:   # not declared: the manual's open reading stands
                 del out[key]
+        if not out["inexpressible_requests"]:
+            del out["inexpressible_requests"]
         return out
 
     @classmethod
