@@ -95,7 +95,9 @@ def tres_shortfall(steps, params, env: dict[str, float]) -> str | None:
                 if owed is not None:
                     over(owed, "the continuation the IUT waits for")
                     owed = None
-            else:
+            else:               # a first command where a continuation may be due ends that wait too
+                if owed is not None:
+                    over(owed, "the command the IUT waits for")
                 owed = None
                 served = [_total(frame), 0]
     need, what = worst

@@ -115,3 +115,15 @@ def test_the_readme_profile_is_the_bundled_one():
     bundled = tomllib.loads(bundled_profiles().joinpath("rk512-reference.toml").read_text("utf-8"))
     for table in ("iut", "rk512"):
         assert readme[table] == bundled[table], table
+
+
+def test_the_long_runs_shrunk_profile_a_first_command_where_a_continuation_is_due():
+    # benchmarks/profile_property.py (seed 11): T_RES 15 ms at 9600 bit/s; P-09B's new first SEND
+    # arrives after the responder's T_RES ran out: the case does not fit that T_RES (unsupported)
+    raw = {"iut": {"procedure": "RK512", "send_trigger": "none", "line_conditions": "parmrk",
+                   "status_from_stderr": True, "priority": "low", "character_delay_ms": 20,
+                   "acknowledgement_delay_ms": 20, "setup_attempts": 1, "transmission_attempts": 1, "data_bits": 8,
+                   "parity": "none"},
+           "rk512": {"response_time_ms": 15, "memory": "pattern", "dx_range": [], "db_bytes": 65536,
+                     "cell_fetch_limit_bytes": 2, "serves_dx_fetch": False}}
+    assert judge(raw) == ("run", [])
