@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ptpcert.procedures.p3964.model import codec as link
 from ptpcert.procedures.rk512.model import Rk512Params
 from ptpcert.scenario import Expected, Expr, StatusSpec, Step, Vector
 from ptpcert.status import lookup
@@ -109,12 +110,14 @@ def prime(frame, at: str = "0", note: str = "") -> Step:
 
 
 def receive(frame, within: str = "TRES", after: str = "0", *, alternatives=(), alt_grade: str = "pass",
-            optional: bool = False, absent_grade: str = "pass", since: str = "previous", note: str = "") -> Step:
+            optional: bool = False, absent_grade: str = "pass", since: str = "previous", note: str = "",
+            or_end: int | None = None) -> Step:
     """The IUT sends ``frame`` (or one of ``alternatives``), its STX within ``within``; the
-    tester receives it as a conforming 3964(R) receiver."""
+    tester receives it as a conforming 3964(R) receiver. ``or_end``: where an alternative
+    came, the case ends after this many further steps."""
     return Step("receive", h(frame), after=Expr(after), within=Expr(within),
                 alternatives=tuple(h(a) for a in alternatives), alt_grade=alt_grade, optional=optional,
-                absent_grade=absent_grade, since=since, note=note)
+                absent_grade=absent_grade, since=since, note=note, or_end=or_end)
 
 
 def tester_send(hdr: bytes, data: bytes, note: str = "") -> list[Step]:
@@ -124,6 +127,27 @@ def tester_send(hdr: bytes, data: bytes, note: str = "") -> list[Step]:
         out.append(prime(f, note=note if k == 0 else ""))
         out.append(receive(resp(0, first=k == 0)))
     return out
+
+
+def line_chars(p: Rk512Params, *frames: bytes) -> int:
+    """The characters ``frames`` put on the line as blocks: STX, the receiver's DLE, the
+    block (DLEs doubled, DLE ETX, BCC), the receiver's DLE (§2.2.2)."""
+    return sum(len(link.frame(f, p.procedure)) + 2 for f in frames)
+
+
+def under_tres(p: Rk512Params, frac: float, *frames: bytes) -> str:
+    """A pause of ``frac`` of what the IUT's shortest T_RES (TRES_MIN) leaves once ``frames``
+    have crossed the line: held that long before them, they still arrive within T_RES at
+    any baud rate (§2.2.3 Figs. 2-18, 2-19)."""
+    return f"{frac}*(TRES_MIN - {line_chars(p, *frames)}*CHAR)"
+
+
+def unprompted(p: Rk512Params, frame: bytes) -> str:
+    """How long the tester watches the IUT send nothing unprompted before ``frame``: 2 ADT,
+    or less where that and ``frame`` would not fit the IUT's T_RES."""
+    if 2 * p.adt + line_chars(p, frame) * p.char_time <= 0.8 * p.t_res_min:
+        return "2*ADT"
+    return under_tres(p, 0.5, frame)
 
 
 def tester_fetch(hdr: bytes, data: bytes, pause: str | None = None) -> list[Step]:
@@ -212,9 +236,9 @@ class Ctx:
     @property
     def pause(self) -> str:
         """How long the tester keeps silent where it checks that the IUT sends nothing
-        unprompted while it waits for the tester (its T_RES running): 2 ADT, or half T_RES
-        where that is shorter (a long ADT would outlast the IUT's T_RES)."""
-        return "2*ADT" if 2 * self.p.adt <= 0.5 * self.p.t_res else "0.5*TRES"
+        unprompted while it waits for the tester (its T_RES running): 2 ADT, or half the
+        shortest T_RES it may have where that is shorter (a long ADT would outlast it)."""
+        return "2*ADT" if 2 * self.p.adt <= 0.5 * self.p.t_res_min else "0.5*TRES_MIN"
 
 
 def case(c: Ctx, id: str, title: str, reference: str, rule: str, group: str, role: str,

@@ -54,7 +54,7 @@ def cases(c):
     out.append(case(
         c, "P-03.RESPONSE-TIME", "The response to a SEND comes within the response monitoring time",
         "§2.2.3 'Response message frame', Figs. 2-18, 2-19 (T_RES)",
-        "The responder answers before the requester's T_RES runs out (the profile's response_time_ms; 5 s at 1200 bit/s and above).",
+        "The responder answers before the requester's T_RES runs out (the profile's response_time_ms; left out, 10 s as the CP 341's prose gives it).",
         "passive-send", "receiver",
         tester_send(header("A", "D", w, 0, 5), d10),
         needs={"db": [w], "db_bytes": 10}, readings=["AMB-02"], provenance="[F]"))

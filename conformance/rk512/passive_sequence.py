@@ -17,12 +17,12 @@ def cases(c):
     out.append(case(
         c, "P-09A.CONTINUATION-WITHOUT-REQUEST", "A continuation SEND with no request open: REATEL 36h",
         "§2.2.3 Fig. 2-19; §8.3 Table 8-1 16#060E ('1st frame expected, continuation came'); Table 8-3 (36h)",
-        "A continuation frame that belongs to no open request is a synchronisation error: answered with REATEL 36h (16#060E) in a continuation response.",
+        "A continuation frame that belongs to no open request is a synchronisation error: the responder reports 16#060E and answers with REATEL 36h in a continuation response; only that answer lets the requester report 16#0908 instead of waiting out its T_RES.",
         "passive-sequence", "receiver",
         [prime(cont("A", "D", seq_data(72))),
-         receive(resp(0x36, first=False), optional=True, absent_grade="informational",
-                 note="the answer is inferred (the manual shows the error, not the frame)")],
-        iut=((), ["16#060E"]), readings=["AMB-26"], needs={"db": [w]}, provenance="[S][I]"))
+         receive(resp(0x36, first=False),
+                 note="Table 8-3 pairs 36h with the responder's 16#060E and the requester's 16#0908")],
+        iut=(["16#060E"], []), readings=["AMB-26"], needs={"db": [w]}, provenance="[S]"))
     out.append(case(
         c, "P-09B.FIRST-WHILE-CONTINUATION-EXPECTED", "A new first SEND while a continuation is expected: the open request ends",
         "§2.2.3 Fig. 2-19 ('1st command frame received: abort with error'); §8.3 Table 8-1 16#060E; Table 8-3",

@@ -107,7 +107,12 @@ class CaseRun(PartnerPlay):
         """The vector's steps in order, each by the handler of its kind (``_send``,
         ``_expect``, ...)."""
         skip = 0
+        self.ending: int | None = None
         for i, step in enumerate(self.steps):
+            if self.ending is not None:
+                if self.ending == 0:
+                    break       # an alternative that ends the case came (or_end)
+                self.ending -= 1
             if skip:
                 skip -= 1   # the rest of a block the IUT did not send (an optional expect's skip)
                 continue
@@ -288,6 +293,8 @@ class CaseRun(PartnerPlay):
         if matched != step.data and not step.partial:
             if matched in step.alternatives:
                 self._grade(step.alt_grade, f"step {self.step_index + 1}: the IUT sent {hexstr(matched)}")
+                if step.or_end is not None:
+                    self.ending = step.or_end
         if (step.partial and matched == step.data and self.stimuli and self.pos <= self.stimuli[-1][1]
                 and self.displaced is None):
             # the whole block was on the line before the stimulus went out: the stimulus

@@ -284,6 +284,13 @@ def _step(raw: Any, fld: str, err, proc=None) -> Step:
             if not isinstance(raw["or"], list) or not raw["or"]:
                 raise err(f"{fld}.or", "a non-empty list of hex strings")
             kw["alternatives"] = tuple(_hex(a, f"{fld}.or[{i}]", err, byte_names) for i, a in enumerate(raw["or"]))
+        if "or_end" in raw:
+            if not isinstance(raw["or_end"], int) or isinstance(raw["or_end"], bool) or raw["or_end"] < 0:
+                raise err(f"{fld}.or_end", "the number of further steps run before the case ends when an "
+                                           "alternative came")
+            if "or" not in raw:
+                raise err(f"{fld}.or_end", "needs alternatives (or = [...]) to end on")
+            kw["or_end"] = raw["or_end"]
     return Step(**kw)
 
 

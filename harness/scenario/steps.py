@@ -34,7 +34,7 @@ STEP_KEYS = {
     "silence": {"note", "mark"},
     "partner": {"note"},
     "expect": {"after", "within", "max_gap", "partial", "optional", "absent_grade", "or",
-               "or_grade", "since", "note", "mark", "resume", "skip"},
+               "or_grade", "or_end", "since", "note", "mark", "resume", "skip"},
 }
 
 
@@ -51,7 +51,9 @@ class Step:
       after the reference point and each further byte within ``max_gap`` of the previous
       one. ``partial``: the IUT may stop anywhere in ``data`` (it was interrupted);
       ``optional``: it may send nothing (graded ``absent_grade``); ``alternatives``: other
-      byte strings accepted in the same window (graded ``alt_grade``). ``resume``: the
+      byte strings accepted in the same window (graded ``alt_grade``); ``or_end``: where one
+      of them came, the case ends after this many further steps (an answer that ends the
+      exchange, e.g. a refusal where a service was asked for). ``resume``: the
       bytes continue those of the last ``partial`` step with the same data: only what it
       did not receive is expected (an IUT that was stopped and goes on).
     * ``silence``: the IUT sends nothing for ``duration``.
@@ -92,6 +94,9 @@ class Step:
     #: an optional expect that sees nothing skips this many of the following steps (the
     #: rest of a macro step it begins, e.g. the tester's replies to a block not sent)
     skip: int = 0
+    #: where one of ``alternatives`` came: the case ends after this many further steps (None:
+    #: it goes on)
+    or_end: int | None = None
 
     @property
     def is_macro(self) -> bool:
@@ -128,6 +133,8 @@ class Step:
                 d["or"] = [vector_hex(a) for a in self.alternatives]
                 if self.alt_grade != "pass":
                     d["or_grade"] = self.alt_grade
+                if self.or_end is not None:
+                    d["or_end"] = self.or_end
             if self.resume:
                 d["resume"] = True
         if self.mark:

@@ -8,7 +8,8 @@ The interface to an RK 512 IUT:
 
 * the profile: the ``[iut]`` keys of 3964R (priority, timers, attempts, line) and the
   ``[rk512]`` table (link, response_time_ms, roles, requests, memory, db_range, dx_range,
-  db_bytes, byte_area_bytes, cell_area_cells); ``send_trigger = "none"``;
+  db_bytes, byte_area_bytes, cell_area_cells, cell_fetch_limit_bytes, serves_dx_fetch);
+  ``send_trigger = "none"``;
 * ``{requests}`` in the exec:/pty: command is replaced by the path of the case's request
   script (one request per line, empty where the IUT has nothing to request);
 * set-ups ``cpu_stop`` and ``flag_set`` (words appended to the command);
@@ -21,7 +22,10 @@ RESULT/FETCHED lines expected, in order; alternatives separated by `` || ``, a F
 ending in `` *`` accepts any data) and ``needs`` (what the IUT's memory must offer: ``db``,
 ``dx`` numbers, ``db_bytes``, ``byte_area_bytes``, ``cell_area_cells`` at least, ``pattern``
 for the pattern start contents; ``setup_attempts`` at least; ``expressible``: the invalid
-request the case hands the IUT, which its interface must be able to express).
+request the case hands the IUT, which its interface must be able to express;
+``cell_fetch_bytes``: the bytes of timers/counters a partner's FETCH must be served;
+``silent``: [rk512] keys the profile must leave out, as the vector accepts either reading of
+them).
 """
 
 from __future__ import annotations
@@ -57,13 +61,11 @@ READING_NAMES = tuple(f"AMB-{i:02d}" for i in range(1, 38)) + tuple(f"N{i}" for 
 
 _LINE_FIELDS = tuple(f.name for f in fields(Params3964) if f.init and f.name != "procedure")
 _RK_FIELDS = ("link", "response_time_ms", "roles", "requests", "memory", "db_range", "dx_range", "db_bytes",
-              "byte_area_bytes", "cell_area_cells", "inexpressible_requests")
-#: the link's attempt counts a case may need at least (``needs``), and why
-_ATTEMPT_NEEDS = {"setup_attempts": "a crossing STX uses up the IUT's first setup attempt (Fig. 2-8 counts "
-                                    "its next STX as the 2nd, open point A21): whether it tries again after it "
-                                    "is open"}
+              "byte_area_bytes", "cell_area_cells", "inexpressible_requests", "cell_fetch_limit_bytes",
+              "serves_dx_fetch")
 _EMPTY_SCRIPT = "requests-none.txt"
-RECEIVE = MacroStep(keys=frozenset({"after", "within", "optional", "absent_grade", "or", "or_grade", "since", "note"}),
+RECEIVE = MacroStep(keys=frozenset({"after", "within", "optional", "absent_grade", "or", "or_grade", "or_end", "since",
+                                    "note"}),
                     max_data=codec.MAX_BLOCK, defaults={"within": "ADT"})
 
 
@@ -74,7 +76,11 @@ class Rk512Procedure(Procedure):
     names = ("RK512",)
     tables = ("rk512",)
     groups = GROUPS
-    time_names = ("CDT", "ADT", "NAKTIM", "BLOCK", "TRES")
+    #: TRES: the IUT's response monitoring time (the profile's, else 10 s); TRES_MIN: the
+    #: shortest it may be (the profile's, else the figures' 5 s / 7 s / 10 s by baud rate,
+    #: open point AMB-02): a response the tester holds back stays under TRES_MIN, a pause
+    #: meant to outlast T_RES passes TRES
+    time_names = ("CDT", "ADT", "NAKTIM", "BLOCK", "TRES", "TRES_MIN")
     #: a receiver's character delay time: the gap it still waits for a further character
     max_gap = "CDT"
     byte_names = {name: byte for byte, name in codec.CONTROL_NAMES.items()}
@@ -181,7 +187,8 @@ class Rk512Procedure(Procedure):
 
     def timer_env(self, params: Any) -> dict[str, float]:
         return {"CDT": params.cdt, "ADT": params.adt, "CHAR": params.char_time,
-                "NAKTIM": T_NAKTIM, "BLOCK": T_BLOCK, "TRES": params.t_res}
+                "NAKTIM": T_NAKTIM, "BLOCK": T_BLOCK, "TRES": params.t_res,
+                "TRES_MIN": params.t_res_min}
 
     def edge_timers(self, params: Any) -> tuple[float, ...]:
         return (params.cdt, params.adt)
@@ -202,7 +209,7 @@ class Rk512Procedure(Procedure):
         DLE, block, DLE). ``receive``: the IUT sends the frame and the tester receives it as
         a conforming receiver: the IUT's STX in the step's window, the tester's DLE at once,
         the block (its first character within CDT, §2.2.2 "Receiving data"), the tester's
-        DLE."""
+        DLE. A receive's ``or_end`` counts the steps after its DLE."""
         from ptpcert.scenario import Expr, Step
 
         proc = params.procedure
@@ -218,7 +225,7 @@ class Rk512Procedure(Procedure):
                  note=f"STX ({note})"),
             Step("send", bytes([codec.DLE]), note="DLE: the tester is ready to receive"),
             Step("expect", codec.body(step.data, proc), within=Expr("CDT"), alternatives=alts,
-                 alt_grade=step.alt_grade,
+                 alt_grade=step.alt_grade, or_end=None if step.or_end is None else step.or_end + 1,
                  note=(f"{step.note}; " if step.note else "") + f"block: {describe_frame(step.data)}"
                       + (" (or " + " or ".join(describe_frame(a) for a in step.alternatives) + ")"
                          if step.alternatives else "") + f"; {end}"),
@@ -246,7 +253,9 @@ class Rk512Procedure(Procedure):
         return ("script",)
 
     def sim_option_names(self) -> tuple[str, ...]:
-        return self.SIM_OPTIONS + ("priority",)
+        # response_time_ms: the simulated IUT's own T_RES where the profile leaves it open
+        # (e.g. the figures' 5 s under a profile that declares none, AMB-02)
+        return self.SIM_OPTIONS + ("priority", "response_time_ms")
 
     def sim_options(self, options: dict[str, str]):
         options = dict(options)
@@ -254,11 +263,15 @@ class Rk512Procedure(Procedure):
         caps, options = super().sim_options(options)
         if options.get("priority", "low") not in ("low", "high"):
             raise ValueError("priority must be low or high")
+        if not options.get("response_time_ms", "10").isdigit():
+            raise ValueError("response_time_ms must be a whole number of milliseconds")
         return caps, options
 
     def sim_params(self, params: Any, options: dict[str, str]) -> Any:
         if "priority" in options:
-            return params.with_(priority=options["priority"])
+            params = params.with_(priority=options["priority"])
+        if "response_time_ms" in options:
+            params = params.with_(response_time_ms=int(options["response_time_ms"]))
         return params
 
     def sim_host(self, params, vector, options: dict[str, str], readings=None):
@@ -280,8 +293,8 @@ class Rk512Procedure(Procedure):
         group.add_argument("--link", choices=["3964R", "3964"], default="3964R",
                            help="RK 512: the link procedure below (default 3964R)")
         group.add_argument("--response-time-ms", type=int, default=None, metavar="MS",
-                           help="RK 512: T_RES, the response monitoring time of both sides (default 5000 at "
-                                ">= 1200 bit/s)")
+                           help="RK 512: T_RES, the response monitoring time of both sides (default 10000, "
+                                "the CP 341's value at every baud rate)")
         group.add_argument("--requests", metavar="FILE",
                            help="RK 512: the request script (one send/fetch/wait per line) the IUT runs from its start")
         group.add_argument("--cpu-stop", action="store_true",
@@ -376,40 +389,8 @@ class Rk512Procedure(Procedure):
         return not script_lines(vector) and not (vector.setup and vector.setup[0] == "flag_set")
 
     def unsupported_reason(self, vector, profile, capabilities, factory) -> str | None:
-        if profile is None:
-            return None
-        p = profile.params
-        role = vector.iut_role
-        if role in ("receiver", "both", "idle") and "passive" not in p.roles:
-            return "tests the IUT in the passive role; the profile's [rk512] roles do not include \"passive\""
-        if script_lines(vector) or role in ("sender", "both"):
-            if "active" not in p.roles:
-                return "tests the IUT in the active role; the profile's [rk512] roles do not include \"active\""
-            if p.requests != "script":
-                return "needs the IUT to run a request script; the profile has [rk512] requests = \"none\""
-            if not getattr(factory, "virtual", False):
-                from ptpcert.transport.base import SETUPS
-                if SETUPS not in capabilities:
-                    return "needs the IUT started with a request script; this transport does not start the IUT"
-                if "{requests}" not in getattr(factory, "command", "{requests}"):
-                    return "needs a request script; the IUT command has no {requests} to put its path in"
-        needs = vector.extra.get("needs", {})
-        for key in ("db_bytes", "byte_area_bytes", "cell_area_cells"):
-            if key in needs and needs[key] > getattr(p, key):
-                return f"needs {key} >= {needs[key]}; the profile's [rk512] has {getattr(p, key)}"
-        for key, why in _ATTEMPT_NEEDS.items():
-            if key in needs and needs[key] > getattr(p, key):
-                return f"needs {key} >= {needs[key]} ({why}); the profile's [iut] has {getattr(p, key)}"
-        if "expressible" in needs and needs["expressible"] in p.inexpressible_requests:
-            return (f"needs a request with {needs['expressible']}; the profile's [rk512] inexpressible_requests "
-                    "says the IUT's request interface cannot express it")
-        for key, rng in (("db", p.db_range), ("dx", p.dx_range)):
-            for n in needs.get(key, []):
-                if not rng or not rng[0] <= n <= rng[1]:
-                    return f"needs {key.upper()} {n}; the profile's [rk512] {key}_range is {list(rng)}"
-        if needs.get("pattern") and p.memory != "pattern":
-            return "needs the IUT's memory to start with the pattern ([rk512] memory = \"pattern\")"
-        return None
+        from .applies import unsupported_reason
+        return unsupported_reason(self, vector, profile, capabilities, factory)
 
     def judge_reports(self, vector, lines: list[str]) -> list[str]:
         """The RESULT and FETCHED lines the IUT printed against the vector's ``results``, in

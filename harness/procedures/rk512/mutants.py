@@ -163,6 +163,13 @@ class _(Rk512Station):
         self._queue(response_head(frame[0] == FIRST, 0), "P", None, "REATEL 00")
 
 
+@mutant("continuation-without-request-ignored",
+        "Table 8-1 16#060E; Table 8-3 (36h): a continuation with no request open gets no answer at all")
+class _(Rk512Station):
+    def _p_refuse_sequence(self, frame):
+        self._status(Code.PARTNER_SEQUENCE_ERROR, "receive")   # reported, but the partner hears nothing
+
+
 @mutant("passive-tres-ignored", "Fig. 2-19 'T > T_RES': the responder waits for a continuation for ever")
 class _(Rk512Station):
     def _d_after_response(self, f):

@@ -16,7 +16,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from rk512_rules import DLE, NAK, STX, TABLE_8_3, UNKNOWN_REATEL, body, continuation, header, response
+from rk512_rules import (DLE, NAK, RESPONDER_8_3, STX, TABLE_8_3, UNKNOWN_REATEL, body, continuation, header, response,
+                         unbody)
 
 ROOT = Path(__file__).resolve().parents[3]
 OUT = ROOT / "vectors" / "rk512"
@@ -70,12 +71,15 @@ def prime(frame, note="", at=None):
     return d
 
 
-def receive(frame, within="TRES", note="", alternatives=(), alt_grade=None, optional=False, absent_grade=None):
+def receive(frame, within="TRES", note="", alternatives=(), alt_grade=None, optional=False, absent_grade=None,
+            or_end=None):
     d = {"receive": hx(frame), "within": within}
     if alternatives:
         d["or"] = [hx(a) for a in alternatives]
         if alt_grade:
             d["or_grade"] = alt_grade
+        if or_end is not None:
+            d["or_end"] = or_end
     if optional:
         d["optional"] = True
         if absent_grade:
@@ -116,6 +120,50 @@ def tester_fetch(hdr, data):
     return out
 
 
+def _responses(steps, bcc):
+    """(sender, REATEL, certain) of every error response in the steps: the IUT's (a receive
+    step or the block of an expect) and the tester's (a prime step or the block it sends);
+    ``certain`` is False where the step is optional or has alternatives."""
+    out = []
+    for d in steps:
+        if "receive" in d or "prime" in d:
+            who, frame = ("iut", d["receive"]) if "receive" in d else ("tester", d["prime"])
+            frames = [bytes.fromhex(frame)] + [bytes.fromhex(a) for a in d.get("or", [])]
+            certain = not d.get("optional") and len(frames) == 1
+        elif "expect" in d or "send" in d:
+            who = "iut" if "expect" in d else "tester"
+            frames = [unbody(bytes.fromhex(d.get("expect", d.get("send"))), bcc)]
+            certain = not d.get("optional")
+        else:
+            continue
+        for f in frames:
+            if f is not None and len(f) >= 4 and f[0] in (0x00, 0xFF) and f[1] == f[2] == 0x00 and f[3]:
+                out.append((who, f[3], certain))
+    return out
+
+
+def tester_side(steps, bcc=True) -> tuple[list[str], list[str]]:
+    """What a CP 341 in the tester's seat raises by Table 8-3 (required, optional): for each
+    error response of the IUT the requester's class-09 event (16#090E for a number the table
+    does not list); for each error response the tester sends, the responder's event that
+    sends that number (one of those the table lists; none for 0Ah, 12h and unlisted ones)."""
+    required, optional = [], []
+    for who, reatel, certain in _responses(steps, bcc):
+        if who == "iut":
+            group = code(TABLE_8_3.get(reatel, UNKNOWN_REATEL))
+        elif reatel in RESPONDER_8_3:
+            group = "|".join(code(c) for c in RESPONDER_8_3[reatel])
+        else:
+            continue
+        if certain and group not in required:
+            required.append(group)
+        elif not certain:
+            for c in group.split("|"):
+                if c not in optional:
+                    optional.append(c)
+    return required, sorted(optional)
+
+
 def vector(vid, title, reference, rule, group, role, steps, *, link="3964R", iut=(), optional=(), requests=(),
            results=(), needs=None, readings=(), provenance="", params=None, binds=("link",), setup=None, notes=""):
     v = {"id": vid, "procedure": "RK512", "title": title, "reference": reference, "rule": rule, "group": group,
@@ -130,9 +178,12 @@ def vector(vid, title, reference, rule, group, role, steps, *, link="3964R", iut
         v["setup"] = setup
     v["steps"] = steps
     v["params"] = {"link": link, **(params or {})}
-    v["expected"] = {"iut_status": list(iut), "tester_status": []}
+    tester, tester_optional = tester_side(steps, link == "3964R")
+    v["expected"] = {"iut_status": list(iut), "tester_status": tester}
     if optional:
         v["expected"]["iut_status_optional"] = list(optional)
+    if tester_optional:
+        v["expected"]["tester_status_optional"] = tester_optional
     extra = {}
     if requests:
         extra["requests"] = list(requests)
@@ -143,6 +194,16 @@ def vector(vid, title, reference, rule, group, role, steps, *, link="3964R", iut
     if extra:
         v["extra"] = extra
     return v
+
+
+#: what a CP 341 does not serve a partner, the profile key that declares it, and how it may
+#: refuse (the manual names no number, AMB-20): timers/counters over 32 bytes with 16#0608 and
+#: 34h (Table 8-3) or 0Ch; a DX with 10h (16#0604), 14h (16#0606) or 0Ch (16#0607)
+CP341_REFUSALS = {
+    "T": ("cell_fetch_limit_bytes", (0x34, 0x0C), ["16#0608", "16#0607"]),
+    "Z": ("cell_fetch_limit_bytes", (0x34, 0x0C), ["16#0608", "16#0607"]),
+    "X": ("serves_dx_fetch", (0x10, 0x14, 0x0C), ["16#0604", "16#0606", "16#0607"]),
+}
 
 
 # -- the vectors ------------------------------------------------------------------------------
@@ -328,17 +389,32 @@ def sizes():
                 needs.update({"db" if typ == "D" else "dx": [number], "db_bytes": n})
             elif typ in "TZ":
                 needs["cell_area_cells"] = n // 2
+                if n <= 32:
+                    needs["cell_fetch_bytes"] = n   # served by every partner whose limit allows it
             else:
                 needs["byte_area_bytes"] = n
+            steps = tester_fetch(header("E", typ, number, 0, length), pattern(typ, number, 0, n))
+            ref = "§2.2.3 Figs. 2-15, 2-16, Tables 2-1, 2-2; §6.3.2 Table 6-8"
+            rule = ("A FETCH is answered with exactly the data asked for, 128 bytes per response and the rest in the "
+                    "last, each further chunk after a continuation FETCH.")
+            readings, events = ["AMB-14", "AMB-15"] if typ in "EAMTZ" else [], []
+            refused = CP341_REFUSALS.get(typ) if typ == "X" or n > 32 else None
+            if refused:
+                # a CP 341 serves no DX and at most 32 bytes of timers/counters to a partner
+                # (§6.3.2 "Providing data", Table 6-10): with the profile silent, its refusal at
+                # once (no data; the manual names no number, AMB-20) ends the vector too
+                key, reatels, events = refused
+                steps[1] = receive(bytes.fromhex(steps[1]["receive"]), alternatives=[response(r) for r in reatels],
+                                   alt_grade="informational", or_end=0)
+                needs["silent"] = [key]
+                readings = readings + ["AMB-20"]
+                ref += "; §6.3.2 'Providing data', Table 6-10"
+                rule += (" A responder that does not serve it (a CP 341: no DX, at most 32 bytes of timers or "
+                         "counters) refuses it at once with an error number and no data.")
             out.append(vector(
                 f"RK512.FETCH.{typ}-{n}", f"FETCH of {n} bytes of type '{typ}' from the start of its area",
-                "§2.2.3 Figs. 2-15, 2-16, Tables 2-1, 2-2; §6.3.2 Table 6-8",
-                "A FETCH is answered with exactly the data asked for, 128 bytes per response and the rest in the last, "
-                "each further chunk after a continuation FETCH.",
-                "passive-fetch", "receiver",
-                tester_fetch(header("E", typ, number, 0, length), pattern(typ, number, 0, n)),
-                params=BIG, needs=needs, readings=["AMB-14", "AMB-15"] if typ in "EAMTZ" else [],
-                provenance="[S][F]" if typ == "D" else "[S][I]"))
+                ref, rule, "passive-fetch", "receiver", steps, params=BIG, needs=needs, readings=readings,
+                optional=events, provenance="[S][F]" if typ == "D" else "[S][I]"))
     return out
 
 
@@ -408,13 +484,13 @@ def class06():
     refuse("16#060D", "the CPU in STOP: REATEL 2Ah", header("A", "D", 11, 0, 2) + seq(4), 0x2A,
            "A command that arrives while the CPU is in STOP is refused with REATEL 2Ah.", setup="cpu_stop")
     out.append(vector(
-        "RK512.ERR06.060E", "16#060E: a continuation with no request open: REATEL 36h (an answer is inferred)",
-        R06.format(c="16#060E", r=0x36),
-        "A continuation that belongs to no open request is a synchronisation error, answered with REATEL 36h.",
+        "RK512.ERR06.060E", "16#060E: a continuation with no request open: REATEL 36h",
+        R06.format(c="16#060E", r=0x36) + ", 16#0908",
+        "A continuation that belongs to no open request is a synchronisation error (16#060E), answered with REATEL "
+        "36h, which the requester reports as 16#0908; a responder that stays silent leaves it waiting out T_RES.",
         "passive-header", "receiver",
-        [prime(continuation("A", "D", seq(72))), receive(response(0x36, first=False), optional=True,
-                                                          absent_grade="informational")],
-        optional=["16#060E"], readings=["AMB-26"], provenance="[S][I]"))
+        [prime(continuation("A", "D", seq(72))), receive(response(0x36, first=False))],
+        iut=["16#060E"], readings=["AMB-26"], provenance="[S]"))
     refuse("16#060F", "flag 12.3 set: REATEL 32h", header("A", "D", 11, 0, 2, b9=12, b10=0x13) + seq(4), 0x32,
            "While the named coordination flag is set the request is refused with REATEL 32h.", readings=["AMB-07"],
            setup={"name": "flag_set", "flag": "12.3", "reset_ms": 1000})

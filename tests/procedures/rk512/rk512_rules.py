@@ -55,3 +55,27 @@ TABLE_8_3 = {
     0x16: 0x090A, 0x2A: 0x090D, 0x32: 0x0909, 0x34: 0x090C, 0x36: 0x0908,
 }
 UNKNOWN_REATEL = 0x090E
+
+#: Table 8-3 read from the other side: REATEL -> the responder's events that send it (one of
+#: them; 0Ah and 12h list none: a CP 341 never sends them, they come from other partners).
+RESPONDER_8_3 = {
+    0x0C: (0x0301, 0x0607, 0x0609, 0x060A), 0x10: (0x0301, 0x0601, 0x0604, 0x0605), 0x14: (0x0606,),
+    0x16: (0x0602, 0x0603), 0x2A: (0x060D,), 0x32: (0x060F,), 0x34: (0x0608, 0x060B, 0x060C, 0x0611),
+    0x36: (0x060E,),
+}
+
+
+def unbody(data: bytes, bcc: bool = True) -> bytes | None:
+    """The payload of a block as ``body`` builds it (None: ``data`` is not one)."""
+    tail = 3 if bcc else 2
+    if len(data) < tail + 1 or data[-tail:-tail + 2] != bytes([DLE, ETX]):
+        return None
+    out, i, raw = bytearray(), 0, data[:-tail]
+    while i < len(raw):
+        if raw[i] == DLE:
+            if i + 1 >= len(raw) or raw[i + 1] != DLE:
+                return None
+            i += 1
+        out.append(raw[i])
+        i += 1
+    return bytes(out) if body(bytes(out), bcc) == data else None

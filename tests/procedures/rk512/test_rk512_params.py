@@ -6,7 +6,7 @@ import pytest
 from ptpcert.model.codes import Code
 from ptpcert.model.errors import ParameterError
 from ptpcert.procedures.p3964.model.params import Params3964
-from ptpcert.procedures.rk512.model import Memory, Rk512Params, default_response_time_ms
+from ptpcert.procedures.rk512.model import Memory, Rk512Params, default_response_time_ms, figure_response_time_ms
 from ptpcert.procedures.rk512.model.codec import Area
 from ptpcert.procedures.rk512.model.readings import RK512_READINGS, Rk512Readings
 from ptpcert.procedures.rk512.model.requests import (
@@ -31,10 +31,15 @@ def test_defaults_follow_the_profile_example():
 
 
 @pytest.mark.parametrize("baud,ms", [(None, 5000), (76800, 5000), (1200, 5000), (600, 7000), (300, 10000)])
-def test_default_t_res_follows_the_figures(baud, ms):
-    # Figs. 2-18/2-19: "T_RES = 5 s (7 s, 10 s) depending on the transmission rate" (AMB-02)
-    assert default_response_time_ms(baud) == ms
-    assert Rk512Params(line=Params3964(baud_rate=baud)).t_res == ms / 1000
+def test_default_t_res_is_the_prose_and_the_figures_give_the_shortest(baud, ms):
+    # §2.2.3 prose: 10 s at 300..76800 bit/s (the default); Figs. 2-18/2-19: "T_RES = 5 s
+    # (7 s, 10 s)" - the shortest a partner may use where the profile is silent (AMB-02)
+    assert default_response_time_ms(baud) == 10000
+    assert figure_response_time_ms(baud) == ms
+    p = Rk512Params(line=Params3964(baud_rate=baud))
+    assert p.t_res == 10.0 and p.t_res_min == ms / 1000
+    declared = Rk512Params(line=Params3964(baud_rate=baud), response_time_ms=7500)
+    assert declared.t_res == declared.t_res_min == 7.5
 
 
 def test_t_res_given():

@@ -156,7 +156,7 @@ def test_amb16_chunks():
 
 @reading("amb17_tres_start")
 def test_amb17_tres_start():
-    for start, expect in (("acknowledged", 1.0 + 5.0), ("handed_over", 0.0 + 5.0)):
+    for start, expect in (("acknowledged", 1.0 + 10.0), ("handed_over", 0.0 + 10.0)):
         c = Core(R(amb17_tres_start=start))
         c.request(0.0, "send DB1:DW0:LEN=2")
         c.frame_sent(1.0)

@@ -234,5 +234,6 @@ class RkExample(PassiveSide, ActiveSide):
             provenance="[fuzz]", procedure="rk512", extra=extra, setup=sim.setup,
             binds=("link", "priority", "cdt_ms", "adt_ms", "setup_attempts", "transmission_attempts",
                    "baud_rate", "data_bits", "parity", "stop_bits", "response_time_ms", "db_bytes",
-                   "byte_area_bytes", "cell_area_cells", "db_range", "dx_range", "memory"),
+                   "byte_area_bytes", "cell_area_cells", "db_range", "dx_range", "memory", "cell_fetch_limit_bytes",
+                   "serves_dx_fetch"),
         )

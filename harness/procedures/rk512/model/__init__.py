@@ -10,7 +10,7 @@ from .core import Rk512Core
 from .events import FrameNotSent, FrameReceived, FrameSent, Ready, RequestResult, Served, Wakeup, interface_lines
 from .framelink import FrameLink
 from .memory import Memory
-from .params import Rk512Params, default_response_time_ms
+from .params import Rk512Params, default_response_time_ms, figure_response_time_ms
 from .readings import RK512_READINGS, Rk512Readings
 from .requests import Request, ScriptError, Wait, parse_line, parse_request, parse_script
 from .station import Rk512Station
@@ -19,6 +19,6 @@ __all__ = [
     "codec", "table", "Rk512Host", "parse_cf_set", "Area", "Header", "Kind", "classify", "describe",
     "status_for_reatel", "Rk512Core", "FrameNotSent", "FrameReceived", "FrameSent", "Ready",
     "RequestResult", "Served", "Wakeup", "interface_lines", "FrameLink", "Memory", "Rk512Params",
-    "default_response_time_ms", "RK512_READINGS", "Rk512Readings", "Request", "ScriptError", "Wait",
+    "default_response_time_ms", "figure_response_time_ms", "RK512_READINGS", "Rk512Readings", "Request", "ScriptError", "Wait",
     "parse_line", "parse_request", "parse_script", "Rk512Station",
 ]

@@ -142,8 +142,13 @@ class Rk512Core:
         fetch_types = set(WORD_CODES - {0x5A}) | {Area.E.code, Area.A.code, Area.M.code, r.amb01_counter_letter}
         if r.amb01_accept_c_for_counters:
             fetch_types.add(_COUNTER_C)
-        if not r.amb20_serve_dx_fetch:
+        p = self.params
+        serves_dx = r.amb20_serve_dx_fetch if p.serves_dx_fetch is None else p.serves_dx_fetch
+        if not serves_dx:
             fetch_types.discard(_DX)
+        #: the declared limit of a partner's FETCH of timers/counters, else the reading's
+        self._cell_limit = r.amb20_cell_fetch_limit_bytes if p.cell_fetch_limit_bytes is None \
+            else p.cell_fetch_limit_bytes
         self._fetch_types = frozenset(fetch_types)
         self._area_of = dict(AREA_BY_CODE)
         self._area_of[r.amb01_counter_letter] = Area.Z
@@ -705,8 +710,7 @@ class Rk512Core:
         if n == 0 or n > MAX_REQUEST_BYTES:
             return Code.LENGTH_NOT_ALLOWED, 0x34
         r = self.readings
-        if op.fetch and op.area in (Area.T, Area.Z) and r.amb20_cell_fetch_limit_bytes is not None \
-                and n > r.amb20_cell_fetch_limit_bytes:
+        if op.fetch and op.area in (Area.T, Area.Z) and self._cell_limit is not None and n > self._cell_limit:
             return Code.LENGTH_NOT_ALLOWED, r.amb20_cell_limit_reatel
         size = self._size(op)
         if size is not None and op.start + n > size:

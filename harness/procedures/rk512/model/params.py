@@ -9,6 +9,7 @@ parameters as stand-alone 3964(R), §2.3.2). Invalid settings raise
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
@@ -29,14 +30,31 @@ _LINE_FIELDS = frozenset(f.name for f in fields(Params3964) if f.init)
 
 
 def default_response_time_ms(baud_rate: int | None) -> int:
-    """T_RES when the profile gives none. The manual's figures (Figs. 2-18/2-19) say
-    "T_RES = 5 s (7 s, 10 s) depending on the transmission rate"; the reading taken (open
-    point AMB-02, :class:`~ptpcert.procedures.rk512.model.readings.Rk512Readings`) is 5 s at 1200 bit/s
-    and above, 7 s at 600 bit/s and 10 s at 300 bit/s. The CP 341's prose value is 10 s at
-    every rate; a profile that wants it says ``response_time_ms = 10000``."""
+    """T_RES when the profile gives none: 10 s at every rate, as the CP 341's prose gives it
+    (§2.2.3 "Response message frame": "for 300 to 76800 bit/s the monitoring time is 10
+    s"). Figs. 2-18/2-19 print "T_RES = 5 s (7 s, 10 s)" depending on the rate
+    (:func:`figure_response_time_ms`): a partner may time out that early, so where a
+    profile is silent the cases accept either (open point AMB-02)."""
+    return 10000
+
+
+def figure_response_time_ms(baud_rate: int | None) -> int:
+    """The shortest T_RES a conforming partner may use where the profile gives none: the
+    figures' "5 s (7 s, 10 s)" read as 5 s at 1200 bit/s and above, 7 s at 600 bit/s and
+    10 s at 300 bit/s (open point AMB-02)."""
     if baud_rate is None or baud_rate >= 1200:
         return 5000
     return 7000 if baud_rate >= 600 else 10000
+
+
+#: the characters of the shortest exchange a requester's T_RES must cover: the response's STX,
+#: the DLE, the 4-byte response with DLE ETX and BCC, the DLE, and two characters' leeway
+SHORTEST_RESPONSE_CHARS = 12
+
+
+def shortest_response_ms(line: Params3964) -> int:
+    """The shortest T_RES with which any request can be answered at the line's rate."""
+    return math.ceil(1000 * SHORTEST_RESPONSE_CHARS * line.char_time)
 
 
 def _int(name: str, v: Any, lo: int, hi: int) -> int:
@@ -75,6 +93,10 @@ class Rk512Params:
     * ``db_range``/``dx_range``: the DB and DX numbers that exist (inclusive; ``()``: no DX);
     * ``db_bytes``: the size of every DB/DX; ``byte_area_bytes``: the size of the M, E and
       A areas; ``cell_area_cells``: the number of timers and of counters (2 bytes each);
+    * ``cell_fetch_limit_bytes``: the most bytes of timers or counters a partner's FETCH is
+      served (a CP 341: 32, §6.3.2 "Providing data"); ``serves_dx_fetch``: whether a
+      partner's FETCH from a DX is served (Table 6-10 lists no DX source). None: not
+      declared, the readings of open point AMB-20 decide (cases accept both).
     * ``inexpressible_requests``: the invalid requests (of :data:`INVALID_REQUESTS`) the
       station's request interface cannot even express (a fact about its interface, not a
       parameter of the manual).
@@ -91,9 +113,14 @@ class Rk512Params:
     db_bytes: int = 512
     byte_area_bytes: int = 256
     cell_area_cells: int = 256
+    cell_fetch_limit_bytes: int | None = None
+    serves_dx_fetch: bool | None = None
     inexpressible_requests: tuple[str, ...] = ()
     # Derived, filled in by __post_init__.
     t_res: float = field(init=False, repr=False, compare=False)
+    #: the shortest T_RES the IUT may have: ``t_res`` where the profile declares it, else
+    #: the figures' value for the baud rate (AMB-02)
+    t_res_min: float = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if self.link not in LINKS:
@@ -125,15 +152,28 @@ class Rk512Params:
             raise ParameterError("db_bytes", self.db_bytes, "an even number of bytes (whole data words)")
         _int("byte_area_bytes", self.byte_area_bytes, 1, _MAX_AREA)
         _int("cell_area_cells", self.cell_area_cells, 1, _MAX_AREA // 2)
+        if self.cell_fetch_limit_bytes is not None:
+            _int("cell_fetch_limit_bytes", self.cell_fetch_limit_bytes, 2, 1024)
+            if self.cell_fetch_limit_bytes % 2:
+                raise ParameterError("cell_fetch_limit_bytes", self.cell_fetch_limit_bytes,
+                                     "an even number of bytes (2 per timer or counter)")
+        if self.serves_dx_fetch is not None and not isinstance(self.serves_dx_fetch, bool):
+            raise ParameterError("serves_dx_fetch", self.serves_dx_fetch, "true or false")
         bad = tuple(self.inexpressible_requests) if isinstance(self.inexpressible_requests, (list, tuple)) else None
         if bad is None or len(set(bad)) != len(bad) or any(b not in INVALID_REQUESTS for b in bad):
             raise ParameterError("inexpressible_requests", self.inexpressible_requests,
                                  "a list of " + ", ".join(INVALID_REQUESTS) + " (each once)")
         object.__setattr__(self, "inexpressible_requests", bad)
         ms = self.response_time_ms
+        if ms is not None and ms < shortest_response_ms(self.line):
+            raise ParameterError("response_time_ms", ms, f"at least {shortest_response_ms(self.line)} ms at "
+                                 f"{self.line.baud_rate or 'this'} bit/s: the shortest response (4 bytes) must "
+                                 "arrive within T_RES (§2.2.3 Figs. 2-18, 2-19)")
         if ms is None:
             ms = default_response_time_ms(self.line.baud_rate)
         object.__setattr__(self, "t_res", ms / 1000.0)
+        low = ms if self.response_time_ms is not None else min(ms, figure_response_time_ms(self.line.baud_rate))
+        object.__setattr__(self, "t_res_min", low / 1000.0)
 
     def __getattr__(self, name: str) -> Any:
         # the link's parameters by their names (priority, cdt_ms, setup_attempts...), so that
@@ -184,8 +224,9 @@ class Rk512Params:
             if f.init and f.name != "line":
                 v = getattr(self, f.name)
                 out[f.name] = list(v) if isinstance(v, tuple) else v
-        if out["response_time_ms"] is None:
-            del out["response_time_ms"]
+        for key in ("response_time_ms", "cell_fetch_limit_bytes", "serves_dx_fetch"):
+            if out[key] is None:   # not declared: the manual's open reading stands
+                del out[key]
         if not out["inexpressible_requests"]:
             del out["inexpressible_requests"]
         return out

@@ -27,10 +27,11 @@ class Rk512Readings:
     amb01_accept_c_for_counters: bool = False
 
     # AMB-02: T_RES. Figs. 2-18/2-19 say "5 s (7 s, 10 s) depending on the transmission
-    # rate", the prose 10 s for every rate. Reading: the figures give the generic rule, 5 s
-    # at >= 1200 bit/s, 7 s at 600, 10 s at 300 bit/s; it is the default when a profile
-    # gives no response_time_ms (params.default_response_time_ms). No field: the value is a
-    # parameter.
+    # rate", the CP 341's prose 10 s for every rate. Reading: 10 s is the default when a
+    # profile gives no response_time_ms (params.default_response_time_ms); the figures'
+    # values (5 s at >= 1200 bit/s, 7 s at 600, 10 s at 300 bit/s) are the shortest a
+    # partner may use, so a case whose outcome hinges on T_RES in between accepts both
+    # (the TRES_MIN of the cases). No field: the value is a parameter.
 
     # AMB-03: SEND to a DX. Table 2-1: byte 3 'O' (4Fh), byte 4 only 'D' when sending;
     # Table 6-5 prints "AD" for DX too (a copy error). A requester sends 'O' 'D'; a
