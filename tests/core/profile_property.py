@@ -26,7 +26,8 @@ def vectors():
 
 def judge(raw: dict, iut: str = "sim:", sample: int = 0, seed: int = 0) -> tuple[str, list[str]]:
     """("refused", [why]) or ("run", the problems: cases that failed or ended in error, and
-    an empty suite). ``sample``: run only this many of the cases, drawn with ``seed``."""
+    an empty suite). A profile that leaves nothing to test is refused as the commands refuse
+    it (:meth:`ptpcert.runner.Runner.nothing_to_test`). ``sample``: run only this many of the cases, drawn with ``seed``."""
     try:
         profile = profile_from_dict(raw, "<drawn>")
     except ProfileError as exc:
@@ -40,13 +41,17 @@ def judge(raw: dict, iut: str = "sim:", sample: int = 0, seed: int = 0) -> tuple
     try:
         result = R.RunResult(tool_version="test", started="now")
         opts = RunOptions(echo=profile.echo, check_status=profile.status_from_stderr)
-        Runner(factory, profile, opts).run(cases, result)
+        runner = Runner(factory, profile, opts)
+        idle = None if sample else runner.nothing_to_test(cases)
+        if idle:   # run, fuzz and the plugin refuse it in this one line (exit 2)
+            return "refused", [f"{profile.procedure.title}: {idle}"]
+        runner.run(cases, result)
     finally:
         factory.shutdown()
     bad = [f"{c.id}: {c.verdict}: {c.message[:300]}" for c in result.cases
            if c.verdict in (R.FAIL, R.ERROR) or (c.verdict == R.UNSUPPORTED and not c.message.strip())]
     if not sample and all(c.verdict == R.UNSUPPORTED for c in result.cases):
-        bad.append("every case is unsupported")
+        bad.append("every case is unsupported, and nothing said so before the run")
     return "run", bad
 
 

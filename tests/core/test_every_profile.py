@@ -25,7 +25,7 @@ from ptpcert.registry import by_id, procedures
 ROOT = Path(__file__).resolve().parents[2]
 PY = sys.executable
 #: profiles drawn per procedure in the fast tests
-EXAMPLES = 25
+EXAMPLES = 60
 
 
 def _check(raw: dict, iut: str = "sim:") -> None:
@@ -37,8 +37,6 @@ def _check(raw: dict, iut: str = "sim:") -> None:
     assert not problems, "the reference fails under this profile:\n" + to_toml(raw) + "\n" + "\n".join(problems[:20])
 
 
-# issue 25 in progress: the fixes land procedure by procedure; this mark goes with the last
-@pytest.mark.xfail(reason="issue 25: the suite is being fixed for every profile", strict=False)
 @pytest.mark.parametrize("pid", [p.id for p in procedures() if p.suite])
 def test_the_reference_passes_under_every_drawn_profile(pid):
     proc = by_id(pid)
@@ -74,7 +72,6 @@ REALTIME_CASES = 30
 
 
 @pytest.mark.realtime
-@pytest.mark.xfail(reason="issue 25: the suite is being fixed for every profile", strict=False)
 @pytest.mark.parametrize("pid", [p.id for p in procedures() if p.suite])
 def test_a_sample_of_drawn_profiles_passes_over_exec(pid, tmp_path):
     """``exec:ptpcert iut --profile FILE`` is the reference for any profile: drawn profiles
