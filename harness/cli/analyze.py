@@ -333,6 +333,10 @@ def cmd_analyze(args) -> int:
         "" if args.resolution_ms is not None or cap.timing is None else f" (the capture's {cap.timing.describe()})"))
     result = A.to_results(an, profile=setup.profile_dict(an.line.judged, resolution), notes=notes)
     result.profile_path = f"seat a: {setup.paths['a']}; seat b: {setup.paths['b']}"
+    if not result.cases:      # nothing judged is not a pass
+        print(f"ptpcert analyze: {args.capture}: no exchange and no finding came of the capture: nothing was judged",
+              file=sys.stderr)
+        return 2
     return _finish(result, args, t0, setup.proc.report_view(), judged=said)
 
 
