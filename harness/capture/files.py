@@ -39,18 +39,23 @@ def format_of(path: str | Path, given: str | None = None) -> str:
 
 def loads_json(text: str, source: str = "", case: str | None = None) -> Capture:
     """A capture JSON, a results object (``case`` selects a case) or a bare transcript."""
+    from ptpcert.results.reading import parse_json
+
     try:
-        d = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise CaptureError(f"not JSON: {exc}", source) from None
+        d = parse_json(text)
+    except ValueError as exc:
+        raise CaptureError(str(exc), source) from None
     if isinstance(d, dict) and d.get("format") == JSON_FORMAT:
         if case is not None:
             raise CaptureError("a case id selects a case of a results object; this is a capture", source)
         return from_dict(d, source)
     if isinstance(d, dict) and "schema" in d:
         return from_results(d, case, source)
-    if isinstance(d, list):
+    if isinstance(d, list) and d:
         return from_transcript(d, source=source)
+    if isinstance(d, list):   # an empty capture passes every judgement: nothing was read
+        raise CaptureError("the JSON is an empty array: no transcript, nothing to read (expected a ptpcert "
+                           f"capture ({JSON_FORMAT!r}), a results object or a transcript)", source)
     raise CaptureError(f"neither a ptpcert capture ({JSON_FORMAT!r}) nor a results object", source)
 
 

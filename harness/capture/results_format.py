@@ -24,6 +24,9 @@ TRANSCRIPT_DIR = {"a": "tester", "b": "iut"}
 RUN_SEATS = {"a": "tester", "b": "IUT"}
 #: The group of the one case of a results object written from a capture.
 CAPTURE_GROUP = "capture"
+#: The note of a capture of a run that names the run's procedure (its title: "RK 512"),
+#: so that ``analyze`` can tell a capture judged under another procedure's profile.
+PROCEDURE_NOTE = "procedure: "
 #: Whole-run captures from a results object: the gap between cases whose clocks overlap.
 CASE_GAP = 1.0
 
@@ -204,6 +207,8 @@ def from_results(run: Any, case: str | None = None, source: str = "") -> Capture
                  f"verdict: {c.verdict}" + (f": {c.message}" if c.message else "")]
         if run.iut:
             notes.append(f"IUT: {run.iut}")
+        if run.procedure:
+            notes.append(PROCEDURE_NOTE + run.procedure)
         notes += [n for n in c.notes if "\n" not in n]
         timing = _run_timing(run.iut, line)
         if c.group == CAPTURE_GROUP:
@@ -219,6 +224,8 @@ def from_results(run: Any, case: str | None = None, source: str = "") -> Capture
     lines = {_line_of_params(c.params) for c in cases if c.transcript}
     line = lines.pop() if len(lines) == 1 else None
     notes = [f"run of {len(cases)} cases" + (f" against {run.iut}" if run.iut else "")]
+    if run.procedure:
+        notes.append(PROCEDURE_NOTE + run.procedure)
     if len(lines) > 1:
         notes.append("the cases ran with different line settings; none is given")
     first_origin = next((c.origin for c in cases if c.transcript), 0.0)

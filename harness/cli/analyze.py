@@ -83,7 +83,9 @@ def _common(p) -> None:
                         "its conforming partner (the same settings, the other priority) unless --profile-a")
     p.add_argument("--profile-a", metavar="FILE", help="seat a's own profile")
     p.add_argument("--profile-b", metavar="FILE", help="seat b's own profile (instead of --profile's)")
-    p.add_argument("--judge", choices=["a", "b", "both"], default="both", help="whose deviations count (default both)")
+    p.add_argument("--judge", choices=["a", "b", "both"], default=None,
+                   help="whose deviations count (default: b, the IUT's seat, in a capture of a 'ptpcert run', whose "
+                        "seat a is the suite's tester with its deliberate deviations; both for any other capture)")
     p.add_argument("--tolerance-ms", type=MS, default=50.0,
                    help="how late a station may act on its own timer, plus 25%% of the timer (default 50)")
     p.add_argument("--junit", metavar="PATH", help="write a JUnit XML file")
@@ -158,7 +160,7 @@ def _setup(cmd: str, args) -> Setup | None:
 
 
 def _judged(args) -> str:
-    return "ab" if args.judge == "both" else args.judge
+    return "ab" if args.judge in ("both", None) else args.judge
 
 
 class ConsoleListener:
@@ -185,7 +187,7 @@ class ConsoleListener:
             print(summary_line(line, e, self.seats), file=self.out, flush=True)
 
 
-def _finish(result, args, t0: float, view=None) -> int:
+def _finish(result, args, t0: float, view=None, judged: str = "") -> int:
     from ptpcert import report as rep
     from ptpcert import results as R
     from ptpcert.cli.reports import write_reports
@@ -195,6 +197,8 @@ def _finish(result, args, t0: float, view=None) -> int:
     if args.html:
         result.html_path = args.html
     written = write_reports(result, args, args.command, view)
+    if judged:     # whose deviations the verdict counts, and why
+        print(judged)
     print(rep.summary(result).replace(" cases in ", " results in "))
     for kind in ("junit", "json", "html"):
         if getattr(args, kind) and kind in written:
@@ -213,12 +217,17 @@ def _run_url(path: str, cap) -> str | None:
     """The --iut URL of the run a capture comes from, if it says."""
     import json
 
+    from ptpcert import capture as C
+
     if str(path).lower().endswith(".json"):
         try:
             d = json.loads(Path(path).read_text("utf-8"))
-        except (OSError, ValueError):
+        except (OSError, ValueError, RecursionError):
             d = None
-        if isinstance(d, dict) and "schema" in d:
+        cases = d.get("cases") if isinstance(d, dict) else None
+        converted = isinstance(cases, list) and bool(cases) and all(
+            isinstance(c, dict) and c.get("group") == C.CAPTURE_GROUP for c in cases)
+        if isinstance(d, dict) and "schema" in d and not converted:   # a converted capture: its notes say
             return str(d.get("iut") or "") or None
     for n in cap.notes:
         m = _RUN_NOTE.match(n)
@@ -227,6 +236,40 @@ def _run_url(path: str, cap) -> str | None:
         if n.startswith("IUT: "):
             return n[5:]
     return None
+
+
+def _seats_judged(args, cap, url: str | None) -> tuple[str, str]:
+    """The seats ``analyze`` judges and why: ``--judge``; else, in a capture of a ``ptpcert
+    run`` (it names the run's IUT, or its times were taken by a run's transport), seat b
+    only: seat a is the suite's tester, whose deviations are the cases' deliberate stimuli;
+    else both."""
+    if args.judge is not None:
+        return _judged(args), f"--judge {args.judge}"
+    if url is not None or (cap.timing is not None and cap.timing.transport in ("sim", "pipe", "port")):
+        run = f"a run against {url}" if url else "a run"
+        return "b", (f"the IUT's: the capture is of {run}, whose seat a is the suite's tester with its "
+                     "deliberate deviations; --judge both judges it too")
+    return "ab", "the capture names no run, so both stations count; --judge a or b for one"
+
+
+def _nothing_to_judge(path: str, cap) -> str | None:
+    """Why ``cap`` gives nothing to judge (it holds no character and no line condition), or None."""
+    if cap.chunks:
+        return None
+    skipped = [n for n in cap.notes if n.endswith("is unknown; skipped")]
+    why = f" ({len(skipped)} record(s) of an unknown event type skipped: {skipped[0]})" if skipped else ""
+    return f"{path}: the capture holds no characters and no line conditions{why}: nothing to judge"
+
+
+def _procedure_mismatch(path: str, cap, proc) -> str | None:
+    """Where a capture of a run names its procedure and the profile's is another, what to say."""
+    from ptpcert import capture as C
+
+    said = next((n[len(C.PROCEDURE_NOTE):] for n in cap.notes if n.startswith(C.PROCEDURE_NOTE)), None)
+    if said is None or said == proc.title:
+        return None
+    return (f"{path}: the capture is of a run of {said}, the profile is for {proc.title}: "
+            f"judge it with a profile of {said}")
 
 
 def _resolution(args, cap, url: str | None, char: float) -> float:
@@ -257,6 +300,10 @@ def cmd_analyze(args) -> int:
     except C.CaptureError as exc:
         print(f"ptpcert analyze: {exc}", file=sys.stderr)
         return 2
+    problem = _nothing_to_judge(args.capture, cap) or _procedure_mismatch(args.capture, cap, setup.proc)
+    if problem:
+        print(f"ptpcert analyze: {problem}", file=sys.stderr)
+        return 2
     url = _run_url(args.capture, cap)
     restarting = url is not None and url.startswith(_RESTARTING)
     if args.restart_at_cases == "auto":
@@ -271,11 +318,13 @@ def cmd_analyze(args) -> int:
     ours = setup.proc.line(setup.params["b"])
     if cap.line is not None and str(cap.line) != str(ours):
         notes.append(f"the capture says the line is {cap.line}; the analysis uses the profiles' {ours}")
-    judged = _judged(args)
+    judged, why = _seats_judged(args, cap, url)
+    said = f"judged: seat{'s' if len(judged) > 1 else ''} {' and '.join(judged)} ({why})"
+    notes.append(said)
     listener = ConsoleListener(dict(cap.seats), quiet=args.quiet, every=args.verbose)
     if not args.quiet:
         print(f"ptpcert analyze: {args.capture}: {len(cap.chunks)} chunks, {cap.duration:.3f} s; "
-              f"judging seat{'s' if len(judged) > 1 else ''} {' and '.join(judged)}; "
+              f"judging seat{'s' if len(judged) > 1 else ''} {' and '.join(judged)} ({why}); "
               f"timing resolution {resolution * 1000:.3f} ms"
               + (f"; seat b restarts at each case ({url})" if restart else ""), flush=True)
     an = A.analyze(cap, setup.kit, judge=judged, resolution=resolution, restart_at_cases=restart,
@@ -284,7 +333,11 @@ def cmd_analyze(args) -> int:
         "" if args.resolution_ms is not None or cap.timing is None else f" (the capture's {cap.timing.describe()})"))
     result = A.to_results(an, profile=setup.profile_dict(an.line.judged, resolution), notes=notes)
     result.profile_path = f"seat a: {setup.paths['a']}; seat b: {setup.paths['b']}"
-    return _finish(result, args, t0, setup.proc.report_view())
+    if not result.cases:      # nothing judged is not a pass
+        print(f"ptpcert analyze: {args.capture}: no exchange and no finding came of the capture: nothing was judged",
+              file=sys.stderr)
+        return 2
+    return _finish(result, args, t0, setup.proc.report_view(), judged=said)
 
 
 # ------------------------------------------------------------------ monitor

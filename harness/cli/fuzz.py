@@ -118,11 +118,21 @@ def cmd_fuzz(args) -> int:
           f"{len(camp.findings)} finding(s), {camp.informational} divergence(s) explained by another reading, "
           f"{camp.not_reproduced} not reproduced, {camp.void} void (interruption reached the IUT late)"
           + (", INTERRUPTED" if interrupted else ""))
-    for p in paths:
-        print(f"  written: {p}")
+    _blocks(camp.findings, paths)
     if interrupted:
         return 2
     return 1 if camp.findings else 0
+
+
+def _blocks(findings, paths) -> None:
+    """The end of a campaign's output: one block per finding (the rule broken, the STATUS
+    events involved, the shrunk transcript) and the files its vectors were written to."""
+    for f in findings:
+        print("\n" + f.describe())
+    if paths:
+        print()
+    for p in paths:
+        print(f"  written: {p}")
 
 
 def nothing_to_fuzz(runner, profile) -> str | None:
@@ -172,8 +182,7 @@ def _fuzz_workers(args, profile, seed: int, out_dir: str) -> int:
           f"{args.workers} workers), {len(res.findings)} finding(s), {res.informational} divergence(s) "
           f"explained by another reading, {res.not_reproduced} not reproduced, {res.void} void "
           "(interruption reached the IUT late)" + (", INTERRUPTED" if interrupted else ""))
-    for p in paths:
-        print(f"  written: {p}")
+    _blocks(res.findings, paths)
     if interrupted or (res.errors and not res.findings):
         return 2
     return 1 if res.findings else 0

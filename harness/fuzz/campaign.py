@@ -198,8 +198,8 @@ class Campaign:
                     if self.reproduces(finding):
                         seen_rules.add(key)
                         self.findings.append(finding)
-                        if self.progress:
-                            self.progress(finding.describe())
+                        if self.progress:   # its block (rule, STATUS, transcript) ends the run
+                            self.progress(f"finding {finding.vector.id}: {finding.rule}")
                     else:
                         self.not_reproduced += 1
                         if self.progress:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import math
 import stat
+import sys
 from dataclasses import Field, fields
 from pathlib import Path
 from typing import Any, Iterable
@@ -31,6 +32,23 @@ class ResultsError(ValueError):
     """A saved results object that ptpcert cannot read; the message names the key."""
 
 
+def parse_json(text: str) -> Any:
+    """``text`` as JSON; a ``ValueError`` that says what is wrong (no traceback) for text
+    that is no JSON, JSON nested too deep for the reader, and a number of more digits than
+    Python converts (both of which ``json`` raises as other errors)."""
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"not JSON: {exc}") from None
+    except RecursionError:
+        raise ValueError("not readable JSON: arrays or objects nested too deep") from None
+    except ValueError as exc:     # int('9' * 5000): the digit limit of int()
+        if "digits" in str(exc):
+            raise ValueError(f"not readable JSON: a number of more than {sys.get_int_max_str_digits()} "
+                             "digits") from None
+        raise ValueError(f"not JSON: {exc}") from None
+
+
 def read_document(path: str | Path) -> Any:
     """The JSON a results file holds, not yet checked. Raises :class:`ResultsError` naming
     the file when it is no file, cannot be read, or is not UTF-8 JSON."""
@@ -44,12 +62,14 @@ def read_document(path: str | Path) -> Any:
     except OSError as exc:
         raise ResultsError(f"{path}: cannot be read: {exc.strerror}") from None
     try:
-        return json.loads(raw.decode("utf-8"))
+        text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
         raise ResultsError(f"{path}: is not UTF-8 text (byte {exc.start}); "
                            "expected the JSON that ptpcert run --json writes") from None
-    except (json.JSONDecodeError, RecursionError) as exc:
-        raise ResultsError(f"{path}: not JSON: {exc}") from None
+    try:
+        return parse_json(text)
+    except ValueError as exc:
+        raise ResultsError(f"{path}: {exc}") from None
 
 
 def cases_from_dict(d: dict[str, Any]) -> list[CaseResult]:

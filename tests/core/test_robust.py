@@ -14,6 +14,7 @@ from __future__ import annotations
 import json
 import os
 import signal
+import struct
 import subprocess
 import sys
 import time
@@ -76,10 +77,47 @@ def bad_inputs(root: Path) -> dict[str, tuple[list[str], list[str]]]:
     cap = str(root / "cap.pcap")
     analyze = ["analyze", cap, "--profile", P]
     monitor = ["monitor", "--a", "loop://", "--b", "loop://", "--profile", P]
+    # input files with nothing to judge, or JSON the reader cannot take
+    (root / "deep.json").write_text("[" * 100_000 + "]" * 100_000)
+    (root / "digits.json").write_text('{"format": "ptpcert-capture/1", "end": ' + "9" * 5000 + "}")
+    (root / "digits-results.json").write_text('{"schema": "' + R.SCHEMA + '", "wall_time": ' + "9" * 5000 + "}")
+    (root / "empty.hexlog").write_text("")
+    pcap_header = struct.pack("<IHHiIII", 0xA1B2C3D4, 2, 4, 0, 0, 65535, 250)
+    (root / "header-only.pcap").write_bytes(pcap_header)
+    body = struct.pack(">IIBBH", 0, 0, 0x42, 0, 0) + b"AB"        # event type 0x42: none of RTAC serial's
+    (root / "unknown-events.pcap").write_bytes(pcap_header + struct.pack("<IIII", 1, 0, len(body), len(body)) + body)
+    # a capture of a run of another procedure than the profile's
+    (root / "rk512-run.hexlog").write_text("# ptpcert-hexlog 1\n# line: 9600 8E1\n# note: run of 1 case against sim:\n"
+                                           "# note: procedure: RK 512\n0.000000 b 15\n")
     other = root / "v-ascii"
     other.mkdir()
     (other / "x.toml").write_text((ROOT / "vectors" / "ascii" / "buf-fifo.toml").read_text())
     return {
+        # input files: nothing to judge is not a pass; JSON the reader cannot take is named
+        "analyze []": (["analyze", str(root / "list.json"), "--profile", P], ["list.json", "empty array"]),
+        "capture convert []": (["capture", "convert", str(root / "list.json"), str(root / "l.hexlog")],
+                               ["list.json", "empty array"]),
+        "analyze, JSON nested 100,000 deep": (["analyze", str(root / "deep.json"), "--profile", P],
+                                              ["deep.json", "nested too deep"]),
+        "capture convert, JSON nested 100,000 deep": (["capture", "convert", str(root / "deep.json"), "-"],
+                                                      ["deep.json", "nested too deep"]),
+        "report, JSON nested 100,000 deep": (["report", str(root / "deep.json")], ["deep.json", "nested too deep"]),
+        "analyze, a 5000-digit number": (["analyze", str(root / "digits.json"), "--profile", P],
+                                         ["digits.json", "a number of more than 4300 digits"]),
+        "capture convert, a 5000-digit number": (["capture", "convert", str(root / "digits.json"), "-"],
+                                                 ["digits.json", "a number of more than 4300 digits"]),
+        "report, a 5000-digit number": (["report", str(root / "digits-results.json")],
+                                        ["digits-results.json", "a number of more than 4300 digits"]),
+        "analyze an empty hex log": (["analyze", str(root / "empty.hexlog"), "--profile", P],
+                                     ["empty.hexlog", "no characters and no line conditions", "nothing to judge"]),
+        "analyze a header-only pcap": (["analyze", str(root / "header-only.pcap"), "--profile", P],
+                                       ["header-only.pcap", "nothing to judge"]),
+        "analyze a pcap of unknown event types": (["analyze", str(root / "unknown-events.pcap"), "--profile", P],
+                                                  ["unknown-events.pcap", "event type 0x42 is unknown",
+                                                   "nothing to judge"]),
+        "analyze a capture of another procedure": (["analyze", str(root / "rk512-run.hexlog"), "--profile", P],
+                                                   ["rk512-run.hexlog", "a run of RK 512",
+                                                    "the profile is for 3964/3964R"]),
         # messages that name the right thing
         "monitor --capture x.bin": (monitor + ["--capture", str(root / "x.bin")],
                                     ["--capture", "x.bin", "name it .pcap"]),

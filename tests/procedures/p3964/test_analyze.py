@@ -705,7 +705,8 @@ def test_analyze_reads_a_hex_log_of_a_single_case(sim_run, tmp_path, capsys):
     assert cli_main(["capture", "convert", str(sim_run / "run.json"), str(tmp_path / "c.hexlog"),
                      "--case", case]) == 0
     capsys.readouterr()
-    rc = cli_main(["analyze", str(sim_run / "run.json"), "--case", case, "--profile", str(PROFILE), "-v"])
+    rc = cli_main(["analyze", str(sim_run / "run.json"), "--case", case, "--profile", str(PROFILE), "-v",
+                   "--judge", "both"])
     out = capsys.readouterr().out
     # one case of a run: the IUT is switched on at its start; the tester's wrong BCC is found
     assert rc == 1 and "the BCC" in out and "seat a" in out

@@ -13,8 +13,9 @@ from rk512_profiles import PY, ROOT, rk_profile, rk_profile_dict, write_profile
 from ptpcert import results as R
 from ptpcert.registry import by_id
 from ptpcert.procedures.rk512.fuzz import FUZZ_KIT, RkGenerator
+from ptpcert.procedures.rk512.fuzz.rules import RULES, UNNAMED
 from ptpcert.runner import Runner, RunOptions
-from ptpcert.scenario import load_dir
+from ptpcert.scenario import load_dir, timer_env
 from ptpcert.transport import make_factory
 
 SMALL = dict(t_res=500, db_bytes=512, byte_area_bytes=256, cell_area_cells=256)
@@ -36,6 +37,15 @@ def test_generated_examples_agree_with_the_model(link, prio, extra):
         v = gen(data).vector("FUZZ.T", "t", "")
         r = runner.run_case(v)
         assert r.verdict == R.PASS, r.message
+        env = timer_env(v)    # exported vectors have no negative offsets (README, "Fuzz it")
+        for i, s in enumerate(v.steps):
+            for key in ("at", "gap", "duration", "after", "within", "max_gap"):
+                e = getattr(s, key)
+                assert e is None or e.eval(env) >= 0.0, (i, key, e.text, s)
+        # every expectation is named by a rule, not by a step's description (issue 27, item 14)
+        for s in v.steps:
+            if s.kind in ("expect", "receive", "silence"):
+                assert FUZZ_KIT.rule_of_note(s.note)[0] in RULES, s.note
         seen["frames"] += sum(s.kind in ("prime", "receive") for s in v.steps)
         seen["requests"] += len(v.extra.get("requests", []))
 
@@ -66,8 +76,15 @@ def test_a_broken_variant_yields_a_finding_saved_as_a_vector(tmp_path, mutant):
              "--export", str(out))
     assert p.returncode == 1, p.stdout[-3000:] + p.stderr
     assert "FINDING" in p.stdout and "transcript (shrunk)" in p.stdout
+    # the blocks end the run (README, "Fuzz it"): after the summary line, each naming a rule
+    assert p.stdout.index("finding(s)") < p.stdout.index("FINDING"), p.stdout[-3000:]
     vectors = load_dir(out)
     assert vectors
+    for v in vectors:
+        assert any(v.rule.startswith(r) for r in (*RULES, UNNAMED)), v.rule
+        env = timer_env(v)
+        assert all(e is None or e.eval(env) >= 0.0 for s in v.steps
+                   for e in (s.at, s.gap, s.duration, s.after, s.within, s.max_gap)), v.steps
     prof = rk_profile(**SMALL)
     for v in vectors:
         assert v.procedure == "rk512" and v.group == "regression" and v.id.startswith("FUZZ.")

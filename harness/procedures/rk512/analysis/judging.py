@@ -59,6 +59,9 @@ COMMAND_RULE = ("a command frame is one a CP 341 sends for a valid request: byte
                 "command letter and data type of Table 2-1, a length of 1 to 1024 bytes, a valid flag and CPU "
                 "number, and (SEND) the first 128 data bytes, the rest in continuation frames",
                 "§2.2.3 Table 2-1, Fig. 2-13; §6.3.2 Tables 6-4 to 6-8")
+#: the rules above by the names the RK 512 fuzz kit gives them (a finding of the fuzzer and
+#: of ``analyze`` name one rule)
+RESPONSE_RULE, UNASKED_RULE, CONTINUATION_RULE = (_RESPONSE_RULE, _RESPONSE_REF), _UNASKED, _CONT_RULE
 _FRAME_ID = ("byte 1 of an RK 512 frame is 00h (first frame) or FFh (continuation frame)",
              "§2.2.3 Tables 2-1, 2-2; Table 8-1 16#0601, 16#0A02")
 

@@ -15,20 +15,17 @@ from __future__ import annotations
 
 from ptpcert.fuzz.kit import ms
 from ptpcert.procedures.p3964.model import codec as link
-from ptpcert.procedures.rk512.model.codec import Kind, classify, describe
-from ptpcert.scenario import Expr, Step, Vector
+from ptpcert.scenario import ZERO, Expr, Step, Vector
+
+from . import rules as R
 
 #: the 3964(R) control characters the tester and the IUT exchange around RK 512 frames
 STX, DLE, ETX, NAK = 0x02, 0x10, 0x03, 0x15
 
 
 def rule_of(frame: bytes) -> str:
-    """The rule that makes a conforming IUT send ``frame`` (for the notes of findings)."""
-    kind = classify(frame)
-    if kind in (Kind.COMMAND, Kind.CONTINUATION):
-        return ("§2.2.3 Table 2-1, Figs. 2-13 to 2-16; §6.3.2 Tables 6-4 to 6-8: the IUT's request is "
-                + describe(frame))
-    return "§2.2.3 Table 2-2, Fig. 2-19; §8.4 Table 8-3: the IUT answers with " + describe(frame)
+    """The note of a frame the IUT sends: the rule that makes a conforming IUT send it."""
+    return R.frame_note(frame)
 
 
 class RkCoSim:
@@ -146,11 +143,14 @@ class RkCoSim:
             frame = link.parse_body(raw, self.p.procedure)
             no = attempt < refuse
             self.write(bytes([NAK if no else DLE]))
-            after = ms(min(0.0, d - 2 * self.char))
+            # no lower bound: the model's own pace is no rule (a faster IUT conforms), and the
+            # STX came after the reference point (the tester's last byte), so no offset is
+            # negative (what exported vectors promise)
+            after = ZERO
             note = rule_of(frame)
             if dle_at or refuse:
                 self.steps += [
-                    Step("expect", bytes([STX]), after=after, within=self.window(d), note="the IUT's STX"),
+                    Step("expect", bytes([STX]), after=after, within=self.window(d), note=R.note(R.SETUP_STX, "the IUT's STX")),
                     Step("send", bytes([DLE]), at=Expr(f"{dle_at}*ADT") if dle_at else Expr("0"),
                          note=f"DLE {dle_at} ADT later" if dle_at else "DLE"),
                     Step("expect", raw, within=Expr("CDT"), note=note),
@@ -183,9 +183,9 @@ class RkCoSim:
             last = nb[0]
             self.pos += 1
         self.ref = last
-        self.steps.append(Step("expect", bytes(got), after=ms(min(0.0, d - 2 * self.char)),
+        self.steps.append(Step("expect", bytes(got), after=ZERO,
                                within=Expr(f"{max(1000 * d, 0):.3f}ms + ADT"),
-                               note="§2.2.2 (the link below RK 512): the IUT's answer on the line"))
+                               note=R.note(R.LINK_ANSWER, "the IUT's answer on the line")))
         return bytes(got)
 
     def quiet_for(self, duration: float, expr: Expr) -> bool:
@@ -196,7 +196,7 @@ class RkCoSim:
         self._pump(self.ref + duration)
         self.ref += duration
         self.steps.append(Step("silence", duration=expr,
-                               note="§2.2.3 'Response message frame', Fig. 2-19: the IUT sends nothing it does not owe"))
+                               note=R.note(R.QUIET, "the IUT sends nothing")))
         return True
 
     def clear(self, at: float) -> float | None:

@@ -13,6 +13,7 @@ from ptpcert.model.codes import Code
 from ptpcert.procedures.rk512.model.readings import RK512_READINGS
 
 from .generator import RkGenerator
+from .rules import rule_of_note
 
 #: the other reading of an open point and the change of the readings that takes it: a
 #: divergence such a model shows too is not a finding
@@ -44,4 +45,5 @@ ALTERNATIVE_READINGS = [
     ("N7", dict(n7_pipelined_command_aborts=False)),
 ]
 
-FUZZ_KIT = FuzzKit(RkGenerator, RK512_READINGS, tuple(ALTERNATIVE_READINGS), check_reports=True)
+FUZZ_KIT = FuzzKit(RkGenerator, RK512_READINGS, tuple(ALTERNATIVE_READINGS), check_reports=True,
+                   rule_of_note=rule_of_note)

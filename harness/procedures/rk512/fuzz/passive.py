@@ -15,11 +15,11 @@ from __future__ import annotations
 from hypothesis import reject
 from hypothesis import strategies as st
 
-from ptpcert.fuzz.kit import ms
 from ptpcert.procedures.p3964.model import codec as link
 from ptpcert.procedures.rk512.model.codec import describe
 from ptpcert.scenario import Expr, Step
 
+from . import rules as R
 from .cosim import DLE, STX, rule_of
 from .requests import OpenRequest, command_header
 
@@ -165,8 +165,7 @@ class PassiveSide:
         sim.pos += 1
         d = t_stx - sim.ref
         sim.ref = t_stx
-        sim.steps.append(Step("expect", bytes([STX]), after=ms(min(0.0, d - 2 * sim.char)), within=sim.window(d),
-                              note="the IUT's STX"))
+        sim.steps.append(Step("expect", bytes([STX]), within=sim.window(d), note=R.note(R.SETUP_STX, "the IUT's STX")))
         req = self.gen.valid_command(data, single=True)
         self._note_areas(req)
         frame = req.hdr + (req.data if not req.fetch else b"")
@@ -177,7 +176,7 @@ class PassiveSide:
                 reject()
             sim.take_bytes()
             sim.steps[-1] = Step("expect", bytes([DLE]), within=Expr("ADT"),
-                                 note="§2.2.2 Fig. 2-8: the IUT (low) yields and answers the tester's STX")
+                                 note=R.note(R.LOW_DEFERS, "the IUT (low) yields and answers the tester's STX"))
             sim.send(link.body(frame, self.p.procedure), note=f"the tester sends {describe(frame)}")
             nb = sim.peek(sim.ref + 2 * self.p.adt)
             if nb is None or nb[1] != DLE:
@@ -188,7 +187,7 @@ class PassiveSide:
         if not sim.quiet_for(0.25 * self.p.adt, Expr("0.25*ADT")):
             reject()
         sim.steps[-1] = Step("silence", duration=Expr("0.25*ADT"),
-                             note="§2.2.2 Fig. 2-8: the IUT (high) does not answer the tester's STX")
+                             note=R.note(R.HIGH_WAITS, "the IUT (high) does not answer the tester's STX"))
         sim.send(bytes([DLE]), note="the tester (low) yields")
         raw = sim.read_body()
         f = link.parse_body(raw, self.p.procedure)
@@ -249,7 +248,7 @@ class PassiveSide:
         got = sim.take_bytes()
         sim.steps[-1] = Step("expect", got, after=sim.steps[-1].after, within=sim.steps[-1].within,
                              alternatives=(bytes([DLE]), bytes([STX, DLE])) if got in (b"\x10", b"\x02\x10") else (),
-                             note="the IUT (low) answers the tester's STX, after its own if that crossed")
+                             note=R.note(R.LOW_DEFERS, "the IUT (low) answers the tester's STX, after its own if that crossed"))
         if got not in (b"\x10", b"\x02\x10"):
             reject()
         sim.send(link.body(f2, self.p.procedure), note="the second command")
