@@ -192,9 +192,39 @@ def profile_from_dict(raw: dict[str, Any], where: str = "<profile>") -> Profile:
                                f"{proc.title}: {', '.join(proc.setups) or 'none'})")
         if not setups[name_].strip():
             raise ProfileError(where, f"iut.setups.{name_}", "must not be empty")
+        problem = _setup_problem(setups[name_], proc.reference_setups.get(name_, ""))
+        if problem:
+            raise ProfileError(where, f"iut.setups.{name_}", problem)
     xf = raw.get("expected_failures", {})
     if not isinstance(xf, dict) or any(not isinstance(v, str) or not v.strip() for v in xf.values()):
         raise ProfileError(where, "expected_failures", "a table of case id = \"reason\" (each with a reason)")
     return Profile(proc, params, iut["send_trigger"], iut["line_conditions"], iut["status_from_stderr"],
                    dict(xf), dict(setups), where, float(timer_tol))
 
+
+
+def _placeholders(words: str) -> list[str]:
+    """The ``{name}`` placeholders of a setup's words (ValueError where braces do not pair)."""
+    import string
+    return [f for _, f, _, _ in string.Formatter().parse(words) if f is not None]
+
+
+def _setup_problem(words: str, reference: str) -> str | None:
+    """What is wrong with a setup's words, checked when the profile loads rather than as
+    errors of the cases that use it: braces that do not pair, a placeholder the cases do not
+    fill in (those of the bundled reference's words for the setup), a quote not closed."""
+    import shlex
+    try:
+        used = _placeholders(words)
+    except ValueError as exc:
+        return f"{words!r}: the braces of its placeholders do not pair ({exc}); write {{name}}, or {{{{ for a brace"
+    known = _placeholders(reference) if reference else []
+    for name in used:
+        if name not in known:
+            filled = ", ".join("{" + k + "}" for k in known) or "none"
+            return f"{words!r}: the cases fill in no placeholder {{{name}}} (they fill in: {filled})"
+    try:
+        shlex.split(words)
+    except ValueError as exc:
+        return f"{words!r}: the words cannot be split as a shell would ({exc})"
+    return None

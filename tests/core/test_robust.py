@@ -89,6 +89,11 @@ def bad_inputs(root: Path) -> dict[str, tuple[list[str], list[str]]]:
     # a capture of a run of another procedure than the profile's
     (root / "rk512-run.hexlog").write_text("# ptpcert-hexlog 1\n# line: 9600 8E1\n# note: run of 1 case against sim:\n"
                                            "# note: procedure: RK 512\n0.000000 b 15\n")
+    rk = (ROOT / "conformance" / "profiles" / "rk512-reference.toml").read_text()
+    assert "--cf-set {flag}@{reset_ms}" in rk
+    for name, words in (("flagg", "--cf-set {flagg}@{reset_ms}"), ("brace", "--cf-set {flag@{reset_ms}"),
+                        ("quote", "--cf-set '{flag}@{reset_ms}")):
+        (root / f"setup-{name}.toml").write_text(rk.replace("--cf-set {flag}@{reset_ms}", words))
     other = root / "v-ascii"
     other.mkdir()
     (other / "x.toml").write_text((ROOT / "vectors" / "ascii" / "buf-fifo.toml").read_text())
@@ -118,6 +123,13 @@ def bad_inputs(root: Path) -> dict[str, tuple[list[str], list[str]]]:
         "analyze a capture of another procedure": (["analyze", str(root / "rk512-run.hexlog"), "--profile", P],
                                                    ["rk512-run.hexlog", "a run of RK 512",
                                                     "the profile is for 3964/3964R"]),
+        # a setup's words are checked when the profile loads, not as errors of the cases
+        "setup with an unknown placeholder": (["run", "--iut", "sim:", "--profile", str(root / "setup-flagg.toml")],
+                                              ["iut.setups.flag_set", "no placeholder {flagg}", "{flag}, {reset_ms}"]),
+        "setup with unpaired braces": (["run", "--iut", "sim:", "--profile", str(root / "setup-brace.toml")],
+                                       ["iut.setups.flag_set", "braces of its placeholders do not pair"]),
+        "setup with an open quote": (["run", "--iut", "sim:", "--profile", str(root / "setup-quote.toml")],
+                                     ["iut.setups.flag_set", "cannot be split as a shell would"]),
         # messages that name the right thing
         "monitor --capture x.bin": (monitor + ["--capture", str(root / "x.bin")],
                                     ["--capture", "x.bin", "name it .pcap"]),
