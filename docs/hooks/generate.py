@@ -117,6 +117,12 @@ def profile_keys() -> str:
         text += [f"\n## {proc.title}\n\n", f"`procedure = {names.replace('`', '')}`"
                  if len(proc.names) == 1 else f"`procedure` is one of {names}", ".\n\n",
                  table(head, rows(proc.profile_schema()))]
+    text.append("\n## Setups\n\nThe `[iut.setups]` each procedure's cases may use, and the words the bundled "
+                "reference takes for them (`{name}` is replaced by the case's value; what each does: "
+                "[IUT interfaces](../iut-interfaces.md#setups)).\n\n")
+    text.append(table(("procedure", "setup", "the bundled reference's words"),
+                      [(cell(p.title), code(name), code(p.reference_setups.get(name, "-")))
+                       for p in procedures() for name in p.setups]))
     text.append("\n## Tables of their own\n\n"
                 "`[iut.setups]` names the words appended to an `exec:`/`pty:` command for the cases that need "
                 "the IUT in a special state (see [IUT interfaces](../iut-interfaces.md#setups)); "

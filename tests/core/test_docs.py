@@ -53,6 +53,17 @@ def test_every_profile_key_of_every_procedure_is_in_the_site(site):
         assert p.title in text
 
 
+def test_every_setup_is_described_and_listed(site):
+    from ptpcert.registry import procedures
+
+    guide = (ROOT / "docs" / "iut-interfaces.md").read_text("utf-8")
+    keys = _page(site, "reference/profile-keys")
+    for p in procedures():
+        for name in p.setups:
+            assert f"| `{name}` |" in guide, f"the setup {name} of {p.title} is not described in docs/iut-interfaces.md"
+            assert name in keys
+
+
 def test_every_case_of_every_bundled_profile_is_in_the_site(site):
     from ptpcert.cli.profile import examples
     from ptpcert.paths import bundled_profiles
