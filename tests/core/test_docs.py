@@ -123,3 +123,18 @@ def test_the_readme_keeps_its_two_commands_and_ci_runs_the_second():
         + " && " + runs
     started = (ROOT / "docs" / "getting-started.md").read_text("utf-8")
     assert install_and_run in started and tests in started
+
+
+def test_the_readme_profile_is_a_valid_profile(tmp_path):
+    from ptpcert.profile import load_profile
+
+    readme = (ROOT / "README.md").read_text("utf-8")
+    profile = tmp_path / "readme.toml"
+    profile.write_text(readme.split("```toml\n", 1)[1].split("```", 1)[0], "utf-8")
+    assert load_profile(profile).procedure.title == "3964/3964R"
+
+
+def test_the_readme_links_into_the_site_resolve():
+    readme = (ROOT / "README.md").read_text("utf-8")
+    links = re.findall(r"\]\((docs/[^)#]+)", readme)
+    assert links and all((ROOT / link).is_file() for link in links), links
