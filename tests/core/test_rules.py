@@ -100,7 +100,8 @@ def test_nothing_users_have_cites_our_notes():
     root = Path(__file__).resolve().parents[2]
     files = [*(root / "harness").rglob("*.py"), *(root / "harness").rglob("*.toml"), *(root / "conformance").rglob("*.py"),
              *(root / "vectors").rglob("*.toml"), root / "README.md", root / "vectors" / "README.md",
-             *(root / "docs").glob("*.md"), *(root / "benchmarks").rglob("*.py"),
+             *(root / "docs").rglob("*.md"), *(root / "docs").rglob("*.py"), root / "mkdocs.yml",
+             *(root / "benchmarks").rglob("*.py"),
              *(f for f in (root / "tests" / "independent").rglob("*") if f.suffix in (".py", ".md", ".toml"))]
     for f in files:
         text = f.read_text("utf-8")

@@ -246,15 +246,15 @@ def test_the_suite_runs_over_rfc2217_with_break_cases(tmp_path):
     assert events.count("BREAK on") >= attempts and events.count("STATUS 16#080D") >= attempts
 
 
-# -- the README's ser2net recipe, where ser2net and socat are installed -------------------------
-def _readme_ser2net_yaml() -> str:
-    text = (ROOT / "README.md").read_text()
-    section = text[text.index("### Lab links: ser2net"):]
+# -- the documentation's ser2net recipe (docs/lab-links.md), where ser2net and socat are installed --
+def _docs_ser2net_yaml() -> str:
+    text = (ROOT / "docs" / "lab-links.md").read_text()
+    section = text[text.index("## ser2net"):]
     return section.split("```yaml\n", 1)[1].split("```", 1)[0]
 
 
-def test_the_readme_has_a_ser2net_recipe():
-    yaml = _readme_ser2net_yaml()
+def test_the_docs_have_a_ser2net_recipe():
+    yaml = _docs_ser2net_yaml()
     assert "telnet(rfc2217),tcp(nodelay)," in yaml and "chardelay: false" in yaml
     assert "serialdev,/dev/ttyUSB0," in yaml
 
@@ -262,8 +262,8 @@ def test_the_readme_has_a_ser2net_recipe():
 @pytest.mark.realtime
 @pytest.mark.skipif(not (shutil.which("ser2net") and shutil.which("socat")),
                     reason="needs Debian's ser2net and socat (apt-get install ser2net socat)")
-def test_the_readme_ser2net_recipe_works(tmp_path):
-    """The README's ser2net.yaml, bound to 127.0.0.1, serving one end of a socat pty pair with
+def test_the_docs_ser2net_recipe_works(tmp_path):
+    """The documentation's ser2net.yaml, bound to 127.0.0.1, serving one end of a socat pty pair with
     the reference implementation on the other: the cases pass over rfc2217:// (BREAK cases
     are left out: a pty has no BREAK)."""
     with socket.socket() as s:
@@ -271,7 +271,7 @@ def test_the_readme_ser2net_recipe_works(tmp_path):
         port = s.getsockname()[1]
     lab, dev = tmp_path / "ttyLAB", tmp_path / "ttyIUT"
     conf = tmp_path / "ser2net.yaml"
-    conf.write_text(_readme_ser2net_yaml().replace("/dev/ttyUSB0", str(lab))
+    conf.write_text(_docs_ser2net_yaml().replace("/dev/ttyUSB0", str(lab))
                     .replace("tcp(nodelay),4001", f"tcp(nodelay),127.0.0.1,{port}"))
     prof = tmp_path / "p.toml"
     prof.write_text((ROOT / "conformance/profiles/reference-20ms.toml").read_text()
