@@ -94,6 +94,12 @@ def bad_inputs(root: Path) -> dict[str, tuple[list[str], list[str]]]:
     for name, words in (("flagg", "--cf-set {flagg}@{reset_ms}"), ("brace", "--cf-set {flag@{reset_ms}"),
                         ("quote", "--cf-set '{flag}@{reset_ms}")):
         (root / f"setup-{name}.toml").write_text(rk.replace("--cf-set {flag}@{reset_ms}", words))
+    vlink = root / "v-link"
+    vlink.mkdir()
+    first = sorted((ROOT / "vectors" / "rk512").glob("*.toml"))[0].read_text()
+    (vlink / "x.toml").write_text(first.replace('[params]', '[params]\nlink = "9999"', 1)
+                                  if 'link = ' not in first else
+                                  __import__("re").sub(r'(?m)^link = .*$', 'link = "9999"', first, count=1))
     other = root / "v-ascii"
     other.mkdir()
     (other / "x.toml").write_text((ROOT / "vectors" / "ascii" / "buf-fifo.toml").read_text())
@@ -131,6 +137,8 @@ def bad_inputs(root: Path) -> dict[str, tuple[list[str], list[str]]]:
         "setup with an open quote": (["run", "--iut", "sim:", "--profile", str(root / "setup-quote.toml")],
                                      ["iut.setups.flag_set", "cannot be split as a shell would"]),
         # messages that name the right thing
+        "vector with link 9999": (["vectors", "--dir", str(vlink)], ["params.link", "'9999' is not allowed",
+                                                                       '"3964R", "3964"']),
         "monitor --capture x.bin": (monitor + ["--capture", str(root / "x.bin")],
                                     ["--capture", "x.bin", "name it .pcap"]),
         "run --vectors-only, none for the procedure": (run + ["--vectors", str(other), "--vectors-only"],

@@ -156,6 +156,8 @@ class Rk512Procedure(Procedure):
             raise ProcedureError("procedure", "RK 512 vectors name the link as link = \"3964R\" or \"3964\"")
         line_keys = {k: raw.pop(k) for k in list(raw) if k in _LINE_FIELDS}
         link = raw.get("link", "3964R")
+        if link not in ("3964R", "3964"):   # the link names the procedure below: said as the key written
+            raise ProcedureError("link", f"link = {link!r} is not allowed: one of \"3964R\", \"3964\"")
         try:
             line = Params3964(procedure=link, **line_keys)
             return Rk512Params.from_dict(raw, line)
