@@ -79,6 +79,30 @@ def cmd_iut(args) -> int:
     except ProcedureError as exc:
         print(f"ptpcert iut: {exc}", file=sys.stderr)
         return 2
+    if profile is None:   # the options are held to what a profile of the same settings must be
+        problem = _options_problem(proc, params, args)
+        if problem:
+            print(f"ptpcert iut: {problem}", file=sys.stderr)
+            return 2
     parmrk = args.parmrk or (profile is not None and profile.line_conditions == "parmrk")
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
     return run_iut(host, proc.line(params), parmrk=parmrk, port=args.port, verbose=args.verbose)
+
+
+def _options_problem(proc, params, args) -> str | None:
+    """Why the options' settings would be refused as a profile (one validation for both: the
+    profile schema and the procedure's checks), or None. Settings a profile cannot state (an
+    unpaced output, --baud 0) are left out of the check."""
+    from ptpcert.profile import ProfileError, profile_from_dict
+
+    settings = proc.profile_dict(params)
+    iut = {k: v for k, v in settings.items() if not isinstance(v, dict) and v is not None}
+    iut.update(send_trigger=proc.send_triggers[0], line_conditions="parmrk" if args.parmrk else "none",
+               status_from_stderr=True)
+    raw = {"iut": iut, **{k: {kk: vv for kk, vv in v.items() if vv is not None}
+                          for k, v in settings.items() if isinstance(v, dict)}}
+    try:
+        profile_from_dict(raw, "the options")
+    except ProfileError as exc:
+        return str(exc)
+    return None

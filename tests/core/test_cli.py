@@ -131,3 +131,24 @@ def test_the_console_says_each_divergence_once():
     tail = p.stdout[p.stdout.index("not passed:"):]
     assert tail.count("step 7") == 1 and "step 7, at " in tail, tail
     assert "IUT timer tolerance" not in p.stdout
+
+
+def test_the_reference_iut_s_options_are_held_to_the_profile_s_validation(tmp_path):
+    """One validation for `ptpcert iut`'s options and for profiles: the default options of
+    every procedure make a valid profile (no false refusal), and settings a profile refuses
+    are refused as options too, in one line naming the same key."""
+    from ptpcert.cli.iut import _options_problem
+    from ptpcert.cli.main import build_parser
+    from ptpcert.registry import by_name, procedures
+
+    for proc in procedures():
+        args = build_parser("iut").parse_args(["iut", "--procedure", proc.names[0]])
+        assert _options_problem(proc, proc.params_from_iut(args), args) is None, proc.title
+    p = cli("iut", "--procedure", "ASCII", "--end-criterion", "end_chars", "--end-chars", "03,0D,0A")
+    assert p.returncode == 2 and p.stderr.count("\n") == 1 and "end_chars" in p.stderr, p.stderr
+    prof = tmp_path / "a.toml"
+    prof.write_text((ROOT / "conformance" / "profiles" / "ascii-reference.toml").read_text().replace(
+        "end_chars = [0x03]", "end_chars = [0x03, 0x0D, 0x0A]"))
+    q = cli("profile", "--check", str(prof))
+    assert q.returncode == 2 and "ascii.end_chars" in q.stderr, q.stderr
+    assert by_name("ASCII") is not None
