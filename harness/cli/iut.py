@@ -95,8 +95,15 @@ def _options_problem(proc, params, args) -> str | None:
     unpaced output, --baud 0) are left out of the check."""
     from ptpcert.profile import ProfileError, profile_from_dict
 
+    from ptpcert.schema import COMMON
+
+    schema = proc.profile_schema()
+    if not schema:   # a procedure that declares no profile keys: nothing to hold the options to
+        return None
+    known = {k.name for k in (*COMMON, *schema)} | {"procedure"}
     settings = proc.profile_dict(params)
-    iut = {k: v for k, v in settings.items() if not isinstance(v, dict) and v is not None}
+    # settings only the reference takes (not profile keys) are the options' own business
+    iut = {k: v for k, v in settings.items() if not isinstance(v, dict) and v is not None and k in known}
     iut.update(send_trigger=proc.send_triggers[0], line_conditions="parmrk" if args.parmrk else "none",
                status_from_stderr=True)
     raw = {"iut": iut, **{k: {kk: vv for kk, vv in v.items() if vv is not None}

@@ -312,9 +312,12 @@ def test_a_case_with_a_setup_runs_the_iut_with_the_profiles_words(tmp_path):
     assert verdicts(data) == {"3964R.D05.NO-FREE-BUFFER": "pass", "3964R.D02.NAK-IN-IDLE": "pass"}
     bare = tmp_path / "bare.toml"
     bare.write_text(PROFILE.read_text().replace('no_buffer = "--buffer full"', ""))
-    p, data, _ = run_json(tmp_path, f"exec:{IUT}", profile=bare, globs=["3964R.D05.*"])
-    (case,) = data["cases"]
-    assert case["verdict"] == "unsupported" and "no_buffer" in case["message"]
+    p, data, _ = run_json(tmp_path, f"exec:{IUT}", profile=bare, globs=["3964R.D05.*", "3964R.D02.*"])
+    assert verdicts(data) == {"3964R.D05.NO-FREE-BUFFER": "unsupported", "3964R.D02.NAK-IN-IDLE": "pass"}
+    assert "no_buffer" in next(c["message"] for c in data["cases"] if c["id"].startswith("3964R.D05"))
+    # alone, the case leaves nothing to test: refused before anything runs, with the reason
+    p = ptpcert("run", "--iut", f"exec:{IUT}", "--profile", str(bare), "--select", "3964R.D05.*")
+    assert p.returncode == 2 and "nothing to test" in p.stderr and "no_buffer" in p.stderr, p.stderr
     # the words really reach the IUT: a setup that does not fill the buffer fails the case
     wrong = tmp_path / "wrong.toml"
     wrong.write_text(PROFILE.read_text().replace('no_buffer = "--buffer full"', 'no_buffer = "--buffer free"'))
