@@ -49,12 +49,19 @@ def report_path_problem(path: str | Path) -> str | None:
         p.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         return f"its directory {p.parent} cannot be created ({exc.strerror})"
-    probe = p.parent / f".{p.name}.{os.getpid()}.{secrets.token_hex(4)}.probe"
+    failed = _probe(p.parent, p.name)
+    return f"no file can be written in {p.parent} ({failed.strerror})" if failed else None
+
+
+def _probe(directory: Path, name: str) -> OSError | None:
+    """Create and remove a file in ``directory`` (named after ``name``): the error where
+    none can be created, else None."""
+    probe = directory / f".{name}.{os.getpid()}.{secrets.token_hex(4)}.probe"
     try:
         with open(probe, "x", encoding="utf-8"):
             pass
     except OSError as exc:
-        return f"no file can be written in {p.parent} ({exc.strerror})"
+        return exc
     try:
         probe.unlink()
     except OSError:
@@ -77,13 +84,10 @@ def directory_problem(path: str | Path) -> str | None:
         p.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         return f"cannot be created ({exc.strerror})"
-    probe = p / f".ptpcert.{os.getpid()}.{secrets.token_hex(4)}.probe"
     try:
-        with open(probe, "x", encoding="utf-8"):
-            pass
-        probe.unlink()
-    except OSError as exc:
-        return f"no file can be written in it ({exc.strerror})"
+        failed = _probe(p, "ptpcert")
+        if failed:
+            return f"no file can be written in it ({failed.strerror})"
     finally:
         for d in made:   # deepest first
             try:
