@@ -24,6 +24,8 @@ from typing import Any, Iterable, Iterator
 from .. import registry
 from ..procedure import Procedure
 
+#: the roles a rule may bind where a catalogue does not list its own (``roles = [...]``; the
+#: 3964 ones); "any" is always allowed
 ROLES = ("sender", "receiver", "idle", "any")
 PROVENANCE = ("S", "F", "I", "O")
 #: how a case grades an IUT that takes another reading of an open point than the model:
@@ -100,6 +102,8 @@ class Catalogue:
     readings: dict[str, Reading] = field(default_factory=dict)
     #: the settings of an IUT a rule may be restricted to (profile keys) and their values
     dimensions: dict[str, tuple[Any, ...]] = field(default_factory=dict)
+    #: the roles a rule may bind (the catalogue's ``roles``)
+    roles: tuple[str, ...] = ROLES
 
     def __iter__(self) -> Iterator[Rule]:
         return iter(self.rules)
@@ -149,6 +153,10 @@ def parse(raw: dict[str, Any], source: str = "<catalogue>") -> Catalogue:
     if not isinstance(dims_raw, dict) or any(not isinstance(v, (list, tuple)) or not v for v in dims_raw.values()):
         raise CatalogueError(f"{source}: [dimensions] is a table of profile key = [its values]")
     dimensions = {k: tuple(v) for k, v in dims_raw.items()}
+    roles_raw = raw.get("roles", list(ROLES))
+    if not isinstance(roles_raw, list) or not roles_raw or not all(isinstance(x, str) and x for x in roles_raw):
+        raise CatalogueError(f"{source}: roles is a list of the roles a rule may bind")
+    roles = tuple(dict.fromkeys([*roles_raw, "any"]))
     rules: list[Rule] = []
     seen: set[str] = set()
     readings_raw = raw.get("reading", {})
@@ -169,8 +177,8 @@ def parse(raw: dict[str, Any], source: str = "<catalogue>") -> Catalogue:
                 raise CatalogueError(f"{where}: {key} missing")
         if not r["text"].rstrip().endswith("."):
             raise CatalogueError(f"{where}: text must be one sentence ending with a full stop")
-        if r["role"] not in ROLES:
-            raise CatalogueError(f"{where}: role {r['role']!r} (allowed: {', '.join(ROLES)})")
+        if r["role"] not in roles:
+            raise CatalogueError(f"{where}: role {r['role']!r} (allowed: {', '.join(roles)})")
         if any(p not in PROVENANCE for p in r["provenance"].split()):
             raise CatalogueError(f"{where}: provenance is letters of {' '.join(PROVENANCE)}")
         applies = {}
@@ -200,7 +208,8 @@ def parse(raw: dict[str, Any], source: str = "<catalogue>") -> Catalogue:
         if x["grade"] not in READING_GRADES:
             raise CatalogueError(f"{where}: grade {x['grade']!r} (allowed: {', '.join(READING_GRADES)})")
         readings[rid] = Reading(rid, x["question"], x["model"], x["grade"])
-    return Catalogue(raw["procedure"], raw["title"], prefix, raw["manual"], tuple(rules), readings, dimensions)
+    return Catalogue(raw["procedure"], raw["title"], prefix, raw["manual"], tuple(rules), readings, dimensions,
+                     roles)
 
 
 _CACHE: dict[str, Catalogue] = {}
