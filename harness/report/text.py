@@ -133,6 +133,10 @@ def summary(run: R.RunResult) -> str:
     lines = [""] + ([timer_tolerance_text(run)] if run.profile.get("timer_tolerance_ms") or not virtual else [])
     if run.harness_scheduling:
         lines.append(f"harness scheduling: {run.harness_scheduling}")
+    if run.shard:
+        lines.append(f"shard {run.shard} of the selection")
+    if run.merged_from:
+        lines.append(f"merged from {', '.join(run.merged_from)}")
     lines += ["", "verdict        cases"]
     for v in R.VERDICTS:
         if counts.get(v):

@@ -42,6 +42,11 @@ class RunResult:
     html_path: str = ""
     #: the harness's scheduling class for the run (:mod:`ptpcert.priority`), for people
     harness_scheduling: str = ""
+    #: ``ptpcert run --shard K/N``: "K/N" where the run is one shard of its selection (its
+    #: vector set hash is then the whole selection's, the same in every shard)
+    shard: str = ""
+    #: ``ptpcert report --merge``: the shards ("K/N") or files the results were merged from
+    merged_from: list[str] = field(default_factory=list)
     schema: str = SCHEMA
     #: the failures grouped by root cause (see :func:`root_causes`); empty while a run is
     #: under way (the views then compute them), filled in the JSON so that a re-rendered
