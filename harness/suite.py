@@ -89,9 +89,11 @@ def plan_shards(weights: dict[str, float], n: int) -> list[list[str]]:
     return shards
 
 
-def shard_of(profile: Profile, cases: list[Vector], k: int, n: int) -> tuple[list[Vector], float, float]:
+def shard_of(profile: Profile, cases: list[Vector], k: int, n: int,
+             weights: dict[str, float] | None = None) -> tuple[list[Vector], float, float]:
     """Shard ``k`` of ``n`` of ``cases`` (in their order), its forced waits and those of all
-    ``cases`` (seconds)."""
-    weights = forced_waits(profile, cases) if n > 1 else {v.id: 0.0 for v in cases}
+    ``cases`` (seconds). ``weights``: the :func:`forced_waits` of these cases (or more), where
+    known."""
+    weights = forced_waits(profile, cases) if weights is None else {v.id: weights[v.id] for v in cases}
     mine = set(plan_shards(weights, n)[k - 1])
     return [v for v in cases if v.id in mine], sum(weights[c] for c in mine), sum(weights.values())

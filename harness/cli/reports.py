@@ -86,21 +86,22 @@ def cmd_report(args) -> int:
     from ptpcert import report as rep
     from ptpcert.results import ResultsError, RunResult
 
-    if bool(args.results) == bool(args.merge):
+    merge = getattr(args, "merge", None)
+    if bool(args.results) == bool(merge):
         print("ptpcert report: give one RESULTS.json to render, or --merge with the results of every shard "
               "(not both)", file=sys.stderr)
         return 2
     kinds = ("junit", "html", "json")
-    problem = report_paths_problem(args, kinds, reading=args.merge or args.results)
+    problem = report_paths_problem(args, kinds, reading=merge or args.results)
     if problem:
         print(f"ptpcert report: {problem}", file=sys.stderr)
         return 2
     try:
-        result = merged(args.merge) if args.merge else RunResult.read_json(args.results)
+        result = merged(merge) if merge else RunResult.read_json(args.results)
     except ResultsError as exc:
-        print(f"ptpcert report: {'--merge: ' if args.merge else ''}{exc}", file=sys.stderr)
+        print(f"ptpcert report: {'--merge: ' if merge else ''}{exc}", file=sys.stderr)
         return 2
-    if not any(getattr(args, k) for k in kinds):
+    if not any(getattr(args, k, None) for k in kinds):
         print(rep.summary(result))
         return 0
     if args.html:
@@ -109,7 +110,7 @@ def cmd_report(args) -> int:
     for kind in kinds:
         if kind in written:
             print(f"{kind}: {getattr(args, kind)}")
-    return 0 if len(written) == sum(bool(getattr(args, k)) for k in kinds) else 2
+    return 0 if len(written) == sum(bool(getattr(args, k, None)) for k in kinds) else 2
 
 
 def merged(paths: list[str]):
