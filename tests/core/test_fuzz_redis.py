@@ -14,18 +14,12 @@ import time
 from pathlib import Path
 
 import pytest
+from test_fuzz_workers import MUTANT, PROFILE, a_later_campaign_resumes
 
-from ptpcert import results as R
-from ptpcert.fuzz import Campaign
-from ptpcert.profile import load_profile
-from ptpcert.runner import RunOptions, Runner
 from ptpcert.scenario import load_dir
-from ptpcert.transport import make_factory
 
 ROOT = Path(__file__).resolve().parents[2]
 PY = sys.executable
-PROFILE = ROOT / "conformance" / "profiles" / "reference-20ms.toml"
-MUTANT = "sim:?mutant=no-dle-doubling"
 SERVER = shutil.which("redis-server")
 START_S = 15.0      # how long the server may take to answer its first PING
 PREFIX = b"hypothesis-example:"   # where hypothesis's RedisExampleDatabase keeps its examples
@@ -58,7 +52,6 @@ def redis_url(tmp_path):
             except redis.exceptions.ConnectionError:
                 time.sleep(0.05)
         else:
-            out = b""
             if proc.poll() is None:
                 proc.kill()
             out = proc.communicate(timeout=10)[0]
@@ -75,9 +68,11 @@ def redis_url(tmp_path):
     pytest.fail("redis-server found no free port in 3 tries")
 
 
-def fuzz(*args):
-    return subprocess.Popen([PY, "-m", "ptpcert.cli", "fuzz", *args], cwd=ROOT, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+def fuzz(log: Path, *args):
+    """A ``ptpcert fuzz`` process, its output into ``log`` (two at once: no pipe to fill)."""
+    with open(log, "w") as f:
+        return subprocess.Popen([PY, "-m", "ptpcert.cli", "fuzz", *args], cwd=ROOT, stdout=f,
+                                stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL)
 
 
 @pytest.mark.realtime
@@ -85,37 +80,23 @@ def test_two_processes_share_a_redis_database_and_a_later_campaign_resumes_from_
     """Two fuzz processes (seeds apart) fuzz the broken variant at the same time with one
     Redis database: each finds the defect and the server holds their failing examples. A
     later campaign with another seed then starts from a stored example: the first example
-    it runs is a shrunk finding (fails the variant, passes the reference)."""
+    it runs is a shrunk finding (fails the variant, passes the reference): the test of the
+    directory database (test_fuzz_workers.py), with the Redis server as the database."""
     url, client = redis_url
-    procs = [fuzz("--iut", MUTANT, "--profile", str(PROFILE), "--budget", "8", "--seed", str(seed),
-                  "--database", url, "--export", str(tmp_path / f"out{seed}")) for seed in (11, 12)]
-    outs = [p.communicate(timeout=300) for p in procs]
-    for p, (out, err) in zip(procs, outs):
-        assert p.returncode == 1, out[-3000:] + err
+    procs = {seed: fuzz(tmp_path / f"log{seed}", "--iut", MUTANT, "--profile", str(PROFILE), "--budget", "8",
+                        "--seed", str(seed), "--database", url, "--export", str(tmp_path / f"out{seed}"))
+             for seed in (11, 12)}
+    for seed, p in procs.items():
+        p.wait(timeout=300)
+        out = (tmp_path / f"log{seed}").read_text()
+        assert p.returncode == 1, out[-3000:]
         assert f"database {url}" in out
     found = [load_dir(tmp_path / f"out{seed}") for seed in (11, 12)]
     assert [len(f) for f in found] == [1, 1], [[v.id for v in f] for f in found]
     stored = client.keys(PREFIX + b"*")
     assert stored and sum(client.scard(k) for k in stored if client.type(k) == b"set") > 0
 
-    prof = load_profile(PROFILE)
-    first = []
-
-    class Recording(Campaign):
-        def _run_vector(self, v):
-            first.append(v)
-            return super()._run_vector(v)
-
-    camp = Recording(prof, Runner(make_factory(MUTANT, prof), prof, RunOptions(check_status=False)), 3.0,
-                     987654, database=url)
-    camp.run()
-    assert camp.findings
-    # as with the directory: the first example is one that a process stored, shrunk (either
-    # process's; each stored its own)
-    again = Runner(make_factory(MUTANT, prof), prof, RunOptions(check_status=False)).run_case(first[0])
-    assert again.verdict == R.FAIL, (again.verdict, [s.to_toml() for s in first[0].steps])
-    assert len(first[0].steps) <= 2 * max(len(f[0].steps) for f in found) + 2
-    assert Runner(make_factory("sim:", prof), prof, RunOptions()).run_case(first[0]).verdict == R.PASS
+    a_later_campaign_resumes(url, [f[0] for f in found])
 
 
 def test_an_unreachable_redis_server_is_one_line_and_exit_2(tmp_path):
