@@ -98,7 +98,9 @@ class Variant:
 class ProcedureAnalyzer:
     """The procedure's part of line analysis (see the module docstring). ``params`` maps a
     seat to its station's parameters; ``apps`` a seat to its application ("echo": it sends
-    back every block it receives; "none": what it sends is its own business)."""
+    back every block it receives, and may send its own; "echo-only": it sends back every block
+    it receives and nothing else, as the suite's IUT interface does; "none": what it sends is
+    its own business)."""
 
     procedure: Any = None
     #: where the manual describes the procedure (the reference of an exchange without findings)

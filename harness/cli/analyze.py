@@ -327,6 +327,9 @@ def cmd_analyze(args) -> int:
               f"judging seat{'s' if len(judged) > 1 else ''} {' and '.join(judged)} ({why}); "
               f"timing resolution {resolution * 1000:.3f} ms"
               + (f"; seat b restarts at each case ({url})" if restart else ""), flush=True)
+    if judged == "b" and args.judge is None and setup.kit.apps["b"] == "echo":
+        # the run's IUT had the suite's echo interface: it sends back what it gets, nothing else
+        setup.kit.apps["b"] = "echo-only"
     an = A.analyze(cap, setup.kit, judge=judged, resolution=resolution, restart_at_cases=restart,
                    source=str(args.capture), listener=listener)
     notes.append(f"timing resolution {resolution * 1000:.3f} ms" + (

@@ -560,3 +560,57 @@ def test_a_repeated_xoff_is_the_other_reading_of_q15():
     an = A.analyze(cap, kit_for(p, p, {"a": "none", "b": "none"}), judge="b")
     assert not fails(an), [f.message for f in fails(an)]
     assert [(f.kind, f.readings) for f in an.findings] == [("reading", ("Q15",))], [f.message for f in an.findings]
+
+
+def _echo_capture(reply: bytes, *more: tuple[float, bytes]) -> C.Capture:
+    """Both stations switched on at 0 (without flow control: no start-up XON); a sends
+    41 42 ETX at 0.1 s; b, an echo station, answers ``reply`` in one read at 0.2 s, then
+    ``more``."""
+    chunks = [C.Chunk(0.1, "a", b"\x41\x42\x03"), C.Chunk(0.2, "b", reply)]
+    chunks += [C.Chunk(t, "b", d) for t, d in more]
+    return C.Capture(chunks, {"a": "a", "b": "b"}, C.LineSettings(9600, 8, "even", 1), marks=[C.Mark(0.0, "power-on")])
+
+
+def _echo_kit(app="echo-only"):
+    p = replace(reference_profile().params, flow_control="none")
+    return kit_for(p, p, apps={"a": "none", "b": app})
+
+
+def _case_of_finding(an: A.Analysis, f: A.Finding) -> A.Exchange:
+    (e,) = [e for e in an.line.exchanges if f in e.findings]
+    return e
+
+
+def test_an_echo_station_judged_on_its_own_exchange():
+    """Issue 27, item 13: a wrong echo fails, on the echo station's exchange (the frame's
+    characters read at once end up to the read's time, so the finding on its second
+    character belongs to the chunk's exchange, not the one before); a frame of its own from
+    an echo station fails (it sends back what it received, nothing else); the right echo
+    passes."""
+    kit = _echo_kit()
+    assert not fails(A.analyze(_echo_capture(b"\x41\x42\x03"), kit))
+    an = A.analyze(_echo_capture(b"\x41\x43\x03"), kit)
+    (f,) = fails(an, "b")
+    assert f.observed.startswith("43")
+    e = _case_of_finding(an, f)
+    assert an.line.chunks[e.first].seat == "b", "the wrong echo is shown on a's exchange"
+    an = A.analyze(_echo_capture(b"\x41\x42\x03", (0.4, b"\x58\x59\x03")), kit)
+    (f,) = fails(an, "b")
+    assert f.observed.startswith("58") and "no frame of its own" in f.message
+    # a station whose application echoes and may send frames of its own (a link's station), or
+    # that does not echo, may send one
+    for app in ("echo", "none"):
+        assert not fails(A.analyze(_echo_capture(b"\x41\x42\x03", (0.4, b"\x58\x59\x03")), _echo_kit(app)))
+
+
+def test_analyze_of_a_run_capture_takes_the_suites_echo_interface(tmp_path, capsys):
+    """In a capture of a run, seat b is the suite's IUT, which sends back what it receives and
+    nothing else: an unsolicited frame there fails (issue 27, item 13)."""
+    cap = _echo_capture(b"\x41\x42\x03", (0.4, b"\x58\x59\x03"))
+    cap.timing = C.Timing("sim", 0.0, 11 / 9600)
+    path = tmp_path / "run.json"
+    C.save(cap, path, "json")
+    prof = tmp_path / "p.toml"
+    prof.write_text(PROFILE.read_text().replace('flow_control = "xon_xoff"', 'flow_control = "none"'))
+    assert cli_main(["analyze", str(path), "--profile", str(prof), "-q"]) == 1
+    assert cli_main(["analyze", str(path), "--profile", str(prof), "-q", "--judge", "both"]) == 0

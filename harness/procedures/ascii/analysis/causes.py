@@ -196,6 +196,10 @@ class Causes:
                 rule, ref = _DISCARD_RULES.get(d[1], ("a frame the receiver discards is never delivered", "§2.2.4"))
                 return Cause("reply", "with the echo convention a station sends back only the frames it stored; "
                                       + rule, ref, 0.0, 0.0, d[2])
+            if not host.own_jobs:
+                rule, ref = _RECEIVE_RULE[p.end_criterion]
+                return Cause("reply", "with the echo convention a station sends back the frames it received, and no "
+                                      f"frame of its own: {rule}", ref, 0.0, 0.0)
         rule, ref = self._send_rule(p)
         return Cause("reply", "an ASCII driver sends only the frames of its send jobs, and (with XON/XOFF) its XON and "
                               "XOFF; " + rule, ref, 0.0, 0.0)
