@@ -109,6 +109,8 @@ class ProcedureAnalyzer:
     reference: str = ""
     #: the longest label of an exchange (a longer one is cut short, ending "...")
     label_width = 160
+    #: how late a reaction of a station's may come in a real-time capture (``--tolerance-ms``)
+    late_abs = 0.0
 
     def __init__(self, procedure: Any, params: dict[str, Any], apps: dict[str, str] | None = None):
         self.procedure = procedure

@@ -17,8 +17,15 @@ resolution. Three places use that, each bounded by it:
   model sends on a timer of its own that runs out within the byte's pending window: the
   timer ran out before the character came (the timer runs from the end of the seat's own
   transmission, whose stamps lag);
-* the seat run's rest point (``SeatRun._nothing_due``): not before a byte of the seat that
-  may have begun by then.
+* the seat run's rest point (``SeatRun._nothing_due``): not before a byte of the seat stamped
+  within the resolution after a character of the other seat's that came while the model was
+  sending (:func:`cut`): that byte may have been on the line before it.
+
+And one allowance that is the analysis's late tolerance (``--tolerance-ms``, the run's own for
+real processes), not the resolution: in a real-time capture a seat may go on with the bytes of
+the transmission an interruption (BREAK, NAK, the partner's STX) ended for up to that long
+after it (:func:`tail_explains`, told in a note): a pipe or a relay delivers what the station
+wrote before it learnt of the interruption at its own pace, and the run grants the same.
 
 A violation further from the other seat's character than the resolution is outside all
 three, and stands.
@@ -80,3 +87,32 @@ def timer_first(run: "SeatRun", o: Item, t_in: float, t_dl: float) -> bool:
         return False
     run.moved_for = run.i_obs
     return st.advance_output(t_dl - target) > 0
+
+
+def cut(run: "SeatRun", it: Item) -> None:
+    """The other seat's character ``it`` comes while the model is sending: remember when, and
+    which bytes the model had yet to send (a copy of it hands them out)."""
+    run.cut_at = it.t
+    if run.res > 0:
+        probe = copy.deepcopy(run.host).station
+        run.tail = [b for _, b in probe.pop_output(inf)]
+        # until the interruption is over (a BREAK lasts its duration), four characters more for
+        # the station's transmitter to stop (the window the suite's BREAK cases give), and the
+        # late tolerance
+        over = it.t + (it.value or 0.0 if it.kind == "break" else 0.0)
+        run.tail_until = over + 4 * run.char + run.kit.late_abs
+
+
+def tail_explains(run: "SeatRun", o: Item) -> bool:
+    """The seat's byte ``o``, which the model no longer sends, is the next byte of the
+    transmission an interruption ended, within the late tolerance of it: taken as that."""
+    if not run.tail or o.kind != "byte" or o.value != run.tail[0] or o.start > run.tail_until:
+        run.tail = []
+        return False
+    if not run.notes or run.notes[-1][0] < run.cut_at:
+        run.notes.append((o.t, f"went on with the transmission that the other seat's character at "
+                               f"{1000 * run.cut_at:.3f} ms ended, within four characters and the late "
+                               f"tolerance ({1000 * run.kit.late_abs:.0f} ms) of it"))
+    run.tail.pop(0)
+    run.i_obs += 1
+    return True

@@ -36,6 +36,7 @@ from math import inf
 from typing import TYPE_CHECKING, Any
 
 from ptpcert import results as R
+from ptpcert.analysis import ahead
 from ptpcert.analysis import order as O
 from ptpcert.analysis.interface import (EPS, QUANTUM, WAIT, Cause, Finding, Item, Variant, at_ms, resolution_finding,
                                        show_item)
@@ -64,6 +65,10 @@ class SeatRun:
         self.shift_from, self.shift_until = -inf, inf
         #: the ordering rule's state (:mod:`ptpcert.analysis.order`)
         self.order_floor, self.moved_for = -inf, -1
+        #: the other seat's last character that came while the model was sending: its stamp,
+        #: the bytes the model then had yet to send, and until when they may still come
+        #: (:func:`ptpcert.analysis.order.cut`)
+        self.cut_at, self.tail, self.tail_until = -inf, [], -inf
         self.expect_startup = expect_startup
         self.failed: Finding | None = None
         # provisional until the next rest point (a later difference may replace them)
@@ -222,6 +227,8 @@ class SeatRun:
                         if r is not None:
                             self.i_in -= 1      # taken in once the byte is settled
                             return r
+                    if st.transmitting:
+                        O.cut(self, it)         # the input came while the model was sending
                     st.line_event(t if t > st.now else st.now, it.kind, it.value)
                     r = self._collect(t)
                     if r is not None:
@@ -293,7 +300,10 @@ class SeatRun:
 
     def _nothing_due(self, t: float) -> bool:
         obs = self.judge.obs    # no byte of the seat may have begun by t (resolution: order.py)
-        return self.i_obs >= len(obs) or obs[self.i_obs].start - self.res > t + EPS
+        if self.i_obs >= len(obs):
+            return True
+        start = obs[self.i_obs].start
+        return start > t + EPS and start - self.res > self.cut_at + EPS
 
     def rested(self, t: float) -> bool:
         """Is the run at rest at ``t``: no byte of the seat being settled or held, the model at
@@ -315,6 +325,8 @@ class SeatRun:
                                       f"is {show_item(self.kit, o)}; {rule} ({ref})",
                                       expected=rule, observed=show_item(self.kit, o), codes=(code,) if code else ())
                 return None
+        elif O.tail_explains(self, o):
+            return True
         else:
             e = kit.explain(self, o, idx)
             if e is WAIT:
@@ -460,7 +472,7 @@ class SeatRun:
 
     def _unexpected(self, o: Item, t: float) -> None:
         """The seat sent ``o`` and the model does not send it: say what the model does next."""
-        later = self._peek(o)
+        later = ahead.peek(self, o)
         host = self._snapshot[0] if self._snapshot is not None else self.host
         cause = self.kit.unexpected(self, host, o, later)
         shown = show_item(self.kit, o)
@@ -475,26 +487,3 @@ class SeatRun:
         self.failed = Finding(self.judge.seat, o.t, R.FAIL, kind, cause.rule, cause.reference, msg,
                               expected=expected, observed=f"{shown} at {at_ms(o.t)}",
                               codes=(cause.code,) if cause.code else (), rules=cause.rules)
-
-    def _peek(self, o: Item) -> tuple[float, int, Cause] | None:
-        """What the model (as it was when the seat's byte began) sends next without further
-        input: a copy of it runs ahead."""
-        horizon = o.t + self.judge.analysis.horizon
-        probe = copy.copy(self)
-        if self._snapshot is not None:
-            host, probe._log_pos, probe._log_k = self._snapshot
-            probe.host = copy.deepcopy(host)
-        else:
-            probe.host = copy.deepcopy(self.host)
-        probe.st = st = probe.host.station
-        for _ in range(10_000):
-            out = st.pop_output(st.now)
-            if out:
-                s, b = out[0]
-                return (s + self.char, b, probe._cause_of(s, b)[0])
-            d = st.next_deadline()
-            if d is None or d > horizon:
-                return None
-            st.handle_timer(d)
-            probe.host.drain(d)
-        return None

@@ -129,3 +129,92 @@ def test_a_retry_well_before_its_timer_still_fails(lags, beyond):
     new job with the same data - a conforming reading the analysis must accept)."""
     early = CHAR + ADT / 20 + RES + beyond
     assert _fails(_retry(lags, early, RES + 0.002))
+
+
+def _paced(t: float, data: bytes, gap: float) -> list[C.Chunk]:
+    """``data`` relayed a byte per ``gap`` seconds from ``t`` (a station behind a relay that
+    goes on sending what it was handed)."""
+    return [_b(t + i * gap, b) for i, b in enumerate(data)]
+
+
+TAIL_LIMIT = 0.023 + 4 * CHAR + 0.050   # the BREAK, four characters, the late tolerance (50 ms)
+
+
+@SETTINGS
+@given(gap=st.floats(0.0008, 0.0015), cut=st.integers(3, 20), tail=st.floats(0.0, 0.95))
+def test_the_rest_of_a_block_relayed_after_the_break_within_the_tolerance_is_no_failure(gap, cut, tail):
+    """The tester's BREAK comes while the IUT's block is relayed a byte per millisecond; the
+    relay goes on with the block for up to the BREAK, four characters and the late tolerance
+    (what the run grants in SUITE.BREAK.DATA), then stops: a note, not a failure."""
+    chunks, t = _send_setup(0.0)
+    block = _paced(t, BLOCK, gap)
+    brk = block[cut].t + 0.0001
+    limit = brk + tail * TAIL_LIMIT
+    sent = [c for c in block if c.t <= brk or c.t - CHAR <= limit]
+    assert not _fails(chunks + sent + [_a(brk)])
+
+
+@SETTINGS
+@given(gap=st.floats(0.0008, 0.0012), beyond=st.floats(0.003, 0.010))
+def test_the_rest_of_a_block_long_after_the_break_still_fails(gap, beyond):
+    """A station that goes on with its block further after the BREAK than that did not return
+    to its initial state: the byte beyond the allowance is found."""
+    chunks, t = _send_setup(0.0)
+    long_block = codec.body(b"A" * 200, "3964R")
+    block = _paced(t, long_block, gap)
+    brk = block[3].t + 0.0001
+    sent = [c for c in block if c.t <= brk + TAIL_LIMIT + CHAR + beyond]
+    assert sent[-1].t > brk + TAIL_LIMIT + CHAR
+    fails = _fails(chunks + sent + [_a(brk)])
+    assert fails and fails[0].t > brk + TAIL_LIMIT
+
+
+def test_a_busy_clean_link_is_told_exchange_by_exchange():
+    """Two stations that exchange blocks with gaps shorter than the timing resolution (a
+    monitor on a busy link, read live): rest points still come after each exchange (no
+    interruption leaves a byte whose order is unknown), so the analysis tells the exchanges
+    one by one while the line goes on, not all at the end, and finds nothing wrong."""
+    res = 0.011
+    chunks, t, n = [], 0.0, 12
+    for i in range(n):
+        s, r = ("a", "b") if i % 2 == 0 else ("b", "a")
+        body = codec.body(b"12", "3964R")
+        chunks += [C.Chunk(round(t, 6), s, bytes([STX])), C.Chunk(round(t + 2 * CHAR, 6), r, bytes([DLE])),
+                   C.Chunk(round(t + (3 + len(body)) * CHAR, 6), s, body)]
+        t += (4 + len(body)) * CHAR
+        chunks.append(C.Chunk(round(t, 6), r, bytes([DLE])))
+        t += 0.003
+
+    class Told:
+        def __init__(self):
+            self.live, self.fails = 0, 0
+
+        def exchange(self, line, e):
+            self.live += not closed
+
+        def finding(self, f):
+            self.fails += f.grade == R.FAIL
+
+    prof = load_profile(PROFILE)
+    told = Told()
+    line = A.LineAnalysis(PROC.analyzer(prof.params, prof.params), judge="ab", resolution=res, listener=told)
+    closed = False
+    for ch in chunks:
+        line.feed(ch)
+        line.advance(ch.t)
+    closed = True
+    line.close(t + 1.0)
+    assert told.fails == 0
+    assert told.live >= n - 3, f"only {told.live} of {n} exchanges told while the line went on"
+
+
+@SETTINGS
+@given(lag=st.floats(0.0002, 0.8 * RES), size=st.integers(2, 60))
+def test_a_block_read_in_one_piece_just_after_the_dle_is_no_failure(lag, size):
+    """A loaded harness reads the IUT's whole block in one read just after its own DLE: the
+    read spread back at line pace puts the block's first bytes before the DLE they answer,
+    and the ordering rule takes them after it (the resolution covers the read's lag)."""
+    chunks, t = _send_setup(0.0)
+    block = codec.body(b"A" * size, "3964R")
+    chunks += [C.Chunk(round(t + lag, 6), "b", block), _a(t + lag + 0.0002, DLE)]
+    assert not _fails(chunks)
