@@ -88,6 +88,7 @@ local f = {
     rk_meaning = ProtoField.string("ptpcert.rk512.reatel_meaning", "REATEL meaning (Table 8-3)"),
     rk_data = ProtoField.bytes("ptpcert.rk512.data", "User data"),
     a_frame = ProtoField.bytes("ptpcert.ascii.frame", "ASCII frame"),
+    a_seat = ProtoField.string("ptpcert.ascii.seat", "Sent by seat"),
     a_end = ProtoField.string("ptpcert.ascii.end", "Frame end"),
     a_flow = ProtoField.string("ptpcert.ascii.flow", "Flow control"),
 }
@@ -301,7 +302,7 @@ local function expire(t, items, why)
     if cfg.family ~= "ascii" then return end
     for _, seat in ipairs({ "a", "b" }) do
         local d = st.dirs[seat]
-        if #d.frame > 0 and d.last_us then
+        if #d.frame > 0 and d.last_us and not (t and d.held) then
             local expired = cfg.cdt_us and t and t - d.last_us - st.char_us >= cfg.cdt_us
             if expired or t == nil then
                 local complete = cfg.criterion == "cdt" and (expired or false)
@@ -321,9 +322,14 @@ local function ends_with(list, tail)
 end
 
 local function byte_ascii(seat, b, t, cfg, items)
-    local d = st.dirs[seat]
-    if cfg.flow and b == cfg.xon then return "XON", true end
-    if cfg.flow and b == cfg.xoff then return "XOFF", true end
+    local d, o = st.dirs[seat], st.dirs[other(seat)]
+    -- XOFF holds the partner's sending: its CDT does not run until XON (from then on)
+    if cfg.flow and b == cfg.xon then
+        if o.held and o.last_us then o.last_us = t end
+        o.held = false
+        return "XON", true
+    end
+    if cfg.flow and b == cfg.xoff then o.held = true; return "XOFF", true end
     d.frame[#d.frame + 1] = b
     d.last_us = t
     if cfg.criterion == "end_chars" and ends_with(d.frame, cfg.end_chars) then
@@ -524,6 +530,7 @@ local function add_frame(tree, tvb, it)
     local sub = tree:add(ptp, tvb(), "ASCII frame from seat " .. it.seat)
     local rtvb = ByteArray.new(bytes_hex(it.data)):tvb("ASCII frame, seat " .. it.seat)
     sub:add(f.a_frame, rtvb())
+    sub:add(f.a_seat, it.seat)
     local endit = sub:add(f.a_end, it.ending)
     if it.ending:find("incomplete") or it.ending:find("ends") then endit:add_proto_expert_info(e.a_cut) end
     local label = "ASCII frame " .. #it.data .. " bytes (" .. it.ending .. ")"
