@@ -340,6 +340,83 @@ def test_rk512_telegrams_are_decoded_field_by_field(runs):
     assert r10[0]["ptpcert.rk512.reatel_meaning"].startswith("header error in byte 1 or byte 4")
 
 
+#: the manual's worked examples (§2.2.3 Figs. 2-13...2-16 and the examples derived from
+#: them; §2.2.2 Fig. 2-4), as blocks on the line after STX and what their fields must be
+EXAMPLES = [
+    # Example 1: SEND to DB 10 from DW 0, 5 words, no coordination flag, CPU 1; BCC 42h
+    ("00 00 41 44 0A 00 00 05 FF 1F 11 22 33 44 55 66 77 88 99 AA 10 03 42",
+     {"kind": "command", "command": "0x41", "type": "0x44", "address_high": "10", "address_low": "0",
+      "length": "5", "length_unit": "words", "cf_byte": "0xff", "cpu": "0x01", "cf_bit": "0x0f",
+      "data": "112233445566778899aa"}),
+    # Example 6: coordination flag byte 3, bit 5, CPU 2
+    ("00 00 41 44 0A 00 00 01 03 25 DE AD 10 03 48",
+     {"kind": "command", "cf_byte": "0x03", "cpu": "0x02", "cf_bit": "0x05", "data": "dead"}),
+    # Example 6: FETCH 6 flag bytes MB 20...25: a length in bytes
+    ("00 00 45 4D 00 14 00 06 FF 1F 10 03 E9",
+     {"kind": "command", "command": "0x45", "type": "0x4d", "address_low": "20", "length": "6",
+      "length_unit": "bytes", "data": ""}),
+    # Example 4: a continuation FETCH and a continuation response
+    ("FF 00 45 44 10 03 ED", {"kind": "continuation command", "byte1": "0xff", "command": "0x45", "type": "0x44"}),
+    ("FF 00 00 00 10 03 EC", {"kind": "continuation response", "byte1": "0xff", "reatel": "0x00", "data": ""}),
+    # Example 5: REATEL 10h, doubled on the line; REATEL 14h
+    ("00 00 00 10 10 10 03 13", {"kind": "response", "reatel": "0x10", "data": ""}),
+    ("00 00 00 14 10 03 07", {"kind": "response", "reatel": "0x14", "data": ""}),
+]
+
+
+@needs_tshark
+@pytest.mark.parametrize("how", ["preference", "parameters note"])
+def test_the_manuals_examples(tmp_path, how):
+    """The manual's blocks in a capture of another recorder (no ptpcert notes): decoded as RK 512
+    by the preference, or by a parameters note; every field as the example says."""
+    lines = []
+    t = 0.0
+    for block, _ in EXAMPLES:
+        lines += [f"{t + 0.001:.6f} a 02", f"{t + 0.002:.6f} b 10", f"{t + 0.003:.6f} a {block}",
+                  f"{t + 0.004:.6f} b 10"]
+        t += 0.1
+    head = ['# note: parameters {"link":"3964R","cdt_ms":100}'] if how == "parameters note" else []
+    (tmp_path / "ex.hexlog").write_text("\n".join(head + lines) + "\n")
+    assert cli_main(["capture", "convert", str(tmp_path / "ex.hexlog"), str(tmp_path / "ex.pcap")]) == 0
+    cmd = [TSHARK, "-n", "-X", f"lua_script:{plugin_path()}", "-r", str(tmp_path / "ex.pcap"), "-T", "fields",
+           "-E", "aggregator=|", "-Y", "ptpcert.block"]
+    pref = ["-o", "ptpcert.procedure:RK 512 on 3964R"] if how == "preference" else []
+    keys = ["kind", "byte1", "command", "type", "address_high", "address_low", "length", "length_unit", "cf_byte",
+            "cpu", "cf_bit", "reatel", "reatel_meaning", "data"]
+    for k in ["ptpcert.block.bcc_ok", *(f"ptpcert.rk512.{k}" for k in keys)]:
+        cmd += ["-e", k]
+    p = subprocess.run(cmd + pref, capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    rows = [line.split("\t") for line in p.stdout.splitlines()]
+    assert len(rows) == len(EXAMPLES)
+    for row, (block, want) in zip(rows, EXAMPLES):
+        assert row[0] in ("1", "True"), block   # every example's BCC is right
+        got = dict(zip(keys, row[1:]))
+        for k, v in want.items():
+            assert got[k] == v, (block, k)
+    assert rows[-1][keys.index("reatel_meaning") + 1].startswith("DB/DX does not exist")
+    # without the preference nor a note, nothing says which procedure: no decoding
+    if how == "preference":
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+        assert p.returncode == 0 and p.stdout == ""
+
+
+@needs_tshark
+def test_the_3964r_example_of_the_manual(tmp_path):
+    """§2.2.2 Fig. 2-4: the data 30 31 32 go on the line as 02 | 30 31 32 10 03 20."""
+    (tmp_path / "x.hexlog").write_text("0.001 a 02\n0.002 b 10\n0.003 a 30 31 32 10 03 20\n0.004 b 10\n")
+    assert cli_main(["capture", "convert", str(tmp_path / "x.hexlog"), str(tmp_path / "x.pcap")]) == 0
+    p = subprocess.run([TSHARK, "-n", "-X", f"lua_script:{plugin_path()}", "-o", "ptpcert.procedure:3964R",
+                        "-r", str(tmp_path / "x.pcap"), "-T", "fields", "-e", "ptpcert.char", "-e", "ptpcert.block",
+                        "-e", "ptpcert.block.bcc_computed", "-E", "aggregator=|"],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    rows = [line.split("\t") for line in p.stdout.splitlines()]
+    assert rows[1:] == [["STX (connection setup)", "", ""], ["DLE (ready to receive)", "", ""],
+                        ["data|data|data|DLE|ETX (end of block)|BCC", "303132", "0x20"],
+                        ["DLE (block accepted)", "", ""]]
+
+
 # ----------------------------------------------------------------------------- ASCII
 
 def frames_by_rule(sent: list[tuple[float, int]], params: dict, char_time: float) -> list[bytes]:

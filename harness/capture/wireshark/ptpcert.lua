@@ -546,6 +546,7 @@ local function render(tvb, pinfo, tree, items)
     local info = {}
     if items.seat then root:add(f.seat, items.seat) end
     local units = {}
+    local data_run
     for _, it in ipairs(items) do
         if it.kind == "block" or it.kind == "aframe" then
             units[#units + 1] = it
@@ -562,7 +563,16 @@ local function render(tvb, pinfo, tree, items)
         elseif it.kind == "char" then
             local r = tvb(12 + it.off, 1)
             root:add(it.flow and f.a_flow or f.char, r, it.label)
-            info[#info + 1] = it.label == "data" and string.format("%02X", r:uint()) or it.label
+            local hex = string.format("%02X", r:uint())
+            if it.label ~= "data" then
+                info[#info + 1] = it.label
+            elseif data_run then          -- data bytes in a row: one "data .." entry
+                info[data_run] = info[data_run] .. " " .. hex
+            else
+                info[#info + 1] = "data " .. hex
+                data_run = #info
+            end
+            if it.label ~= "data" then data_run = nil end
         end
     end
     for _, it in ipairs(units) do
