@@ -67,6 +67,7 @@ local f = {
     case = ProtoField.string("ptpcert.case", "Case"),
     note = ProtoField.string("ptpcert.note", "Capture header"),
     block = ProtoField.bytes("ptpcert.block", "3964(R) block data (DLE undoubled)"),
+    block_seat = ProtoField.string("ptpcert.block.seat", "Sent by seat"),
     block_len = ProtoField.uint16("ptpcert.block.length", "Data length"),
     block_end = ProtoField.string("ptpcert.block.end", "Block end"),
     bcc = ProtoField.uint8("ptpcert.block.bcc", "BCC", base.HEX),
@@ -227,9 +228,23 @@ local function abort_block(seat, items, why)
     end
 end
 
+-- Any character but NAK from the receiver during the partner's data phase: the sender stops
+-- the block (and, after the CDT, sends NAK and starts again with STX); §2.2.2 Sending data.
+local function interrupts(seat, items)
+    local o = st.dirs[other(seat)]
+    if o.state == "block" or o.state == "dle" then
+        abort_block(other(seat), items, "interrupted by the partner")
+        return true
+    end
+    return false
+end
+
 local function byte_3964(seat, b, cfg, items)
     local d, o = st.dirs[seat], st.dirs[other(seat)]
     local label
+    if b ~= NAK and interrupts(seat, items) then
+        return byte_3964(seat, b, cfg, items) .. " (interrupts the partner's block)"
+    end
     if d.state == "block" then
         d.raw[#d.raw + 1] = b
         if b == DLE then
@@ -416,6 +431,8 @@ local function first_pass(tvb)
     if ev == 7 or ev == 8 then
         items[#items + 1] = { kind = "cond", label = COND[ev] }
         st.dirs[seat].errors = st.dirs[seat].errors + 1
+        local fam = settings().family
+        if #payload == 0 and (fam == "3964" or fam == "rk512") then interrupts(seat, items) end
     elseif EV_SEAT[ev] == nil then
         return items
     end
@@ -500,6 +517,7 @@ local function add_block(tree, tvb, it)
         rtvb = ByteArray.new(bytes_hex(it.data)):tvb("3964(R) block, seat " .. it.seat)
         sub:add(f.block, rtvb())
     end
+    sub:add(f.block_seat, it.seat)
     sub:add(f.block_len, #it.data):set_generated()
     local endit = sub:add(f.block_end, it.ending)
     if it.ending ~= "DLE ETX" then
