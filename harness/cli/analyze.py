@@ -384,8 +384,11 @@ def cmd_monitor(args) -> int:
     listener = ConsoleListener(seats, quiet=args.quiet, every=True)
     line = A.LineAnalysis(setup.kit, judge=judged, resolution=resolution, listener=listener)
     timing = C.Timing("monitor", resolution, line_b.char_time if line_b.baud_rate else None)
+    # the procedure and seat b's parameters, for a reader of the capture (the Wireshark dissector)
     meta = C.Capture([], seats, line_b, started, None,
-                     [f"ptpcert monitor, timing resolution {resolution * 1000:.3f} ms"], timing=timing)
+                     [f"ptpcert monitor, timing resolution {resolution * 1000:.3f} ms",
+                      C.PROCEDURE_NOTE + setup.proc.title,
+                      C.params_text(setup.proc.params_table(setup.params["b"]))], timing=timing)
     try:
         mon = Monitor(args.a, args.b, line_b, parmrk=args.parmrk)
     except MonitorError as exc:
@@ -402,7 +405,7 @@ def cmd_monitor(args) -> int:
     old_int = signal.signal(signal.SIGINT, stop)
     try:
         with open(path, "wb" if fmt == "pcap" else "w", **({} if fmt == "pcap" else {"encoding": "utf-8"})) as fp:
-            writer = C.PcapWriter(fp, started, timing) if fmt == "pcap" else C.HexLogWriter(fp, meta)
+            writer = C.PcapWriter(fp, started, timing, meta) if fmt == "pcap" else C.HexLogWriter(fp, meta)
             with priority.harness(args.priority, this_thread=False) as how:
                 end = mon.run(line, writer, stop=lambda: bool(interrupted), duration=args.duration,
                               resolution=resolution)
