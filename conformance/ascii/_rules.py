@@ -25,6 +25,7 @@ CITES: dict[str, tuple[str, ...]] = {
     "CDT.CHARACTER-ERROR-GAPS": (_CDT + "CHARACTER-ERROR", _ST + "080C"),
     "CDT.TRANSPARENT": (_RX + "TRANSPARENT", _F + "ALL-CODES"),
     "CDT.MAX-1024": (_RX + "MAX-FRAME", _TX + "LEN-MAX"),
+    "CDT.TOO-LONG": (_RX + "TOO-LONG", _ST + "0816"),
     "CDT.ENDS-AFTER-CDT": (_CDT + "FRAME-END",),
     # end characters
     "EC.END-INCLUDED": (_EC + "END-INCLUDED", _TX + "FRAME-AS-GIVEN"),

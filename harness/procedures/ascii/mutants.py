@@ -295,3 +295,6 @@ class _(AsciiStation):
         self._cur.append(b)
         if self._spoil is None:
             self._full_check()
+
+
+from . import mutants_rules  # noqa: E402,F401  (the variants made for the rules catalogue register themselves)
