@@ -1,7 +1,7 @@
 """More broken variants of the ASCII driver, made for the rules catalogue's kill matrix
 (``tests/procedures/ascii/test_ascii_kill_matrix.py``): each breaks one rule of
 ``rules.toml`` that the variants of :mod:`.mutants` leave whole. They are entered into the
-same :data:`~ptpcert.procedures.ascii.mutants.MUTANTS` (``--mutant NAME``, ``sim:?mutant=NAME``)."""
+same :data:`~ptpcert.procedures.ascii.mutant_registry.MUTANTS` (``--mutant NAME``, ``sim:?mutant=NAME``)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from ptpcert.procedures.ascii.model import events as aev
 from ptpcert.procedures.ascii.model.station import Timer
 from ptpcert.procedures.ascii.model.table import RxInput, RxState
 
-from .mutants import EC, EC2, XX, mutant
+from .mutant_registry import EC, EC2, XX, mutant
 
 # ---------------------------------------------------------------- the character frame
 @mutant("nul-dropped", "§2.2.4 'code transparency'; Table 2-8: a received 00 is taken for a filler and dropped, not "
