@@ -83,11 +83,11 @@ def run_cli(*args):
 
 
 def test_ptpcert_rules_prints_the_matrix_and_check_ends_with_the_counts(matrix, tmp_path):
-    p = run_cli("--check")
+    p = run_cli("--procedure", "3964", "--check")
     last = p.stdout.strip().splitlines()[-1]
     assert last == matrix.summary()
     assert p.returncode == (0 if matrix.ok else 1)
-    p = run_cli("--select", "3964.RX.BCC-CHECK", "--json", str(tmp_path / "m.json"))
+    p = run_cli("--procedure", "3964", "--select", "3964.RX.BCC-CHECK", "--json", str(tmp_path / "m.json"))
     assert p.returncode == 0 and "3964.RX.BCC-CHECK" in p.stdout and "SUITE.RECEIVE.BCC-DLE-ONCE" in p.stdout
     data = json.loads((tmp_path / "m.json").read_text())
     (rule,) = data["rules"]

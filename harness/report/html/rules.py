@@ -97,7 +97,7 @@ def traceability_section(run: R.RunResult) -> str:
     readings = "".join(
         f"<tr><td><code>{esc(a.id)}</code></td><td>{esc(a.question)}</td><td>{esc(a.model)}</td>"
         f"<td>{esc(a.grade)}</td></tr>"
-        for a in sorted(cat.readings.values(), key=lambda a: int(a.id[1:])))
+        for a in cat.readings.values())   # in the catalogue's order (A1.., Q1.., d_hold ...)
     return (f'<section id="traceability"><h2>Traceability: the manual\'s rules in this run</h2>'
             f"<p>{len(cat)} rules of {esc(cat.title)} ({esc(cat.manual)}): {summary}. A rule's verdict is the "
             "worst verdict of the cases that check it; untestable rules cannot be seen on the line.</p>"
