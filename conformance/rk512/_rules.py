@@ -111,7 +111,7 @@ CITES: tuple[tuple[str, tuple[str, ...]], ...] = tuple((pat, tuple(ids)) for pat
     # -- the IUT active: responses (A-06..A-08, A-12)
     ("A-06.REATEL-??", ["RK512.REQ.REATEL-EVENT"]),
     ("A-06.REATEL-??-CONTINUATION", ["RK512.REQ.REATEL-EVENT", "RK512.SEG.ERROR-ENDS-REQUEST"]),
-    ("A-06.REATEL-??-*-OF-THREE", ["RK512.REQ.REATEL-EVENT", "RK512.SEG.ERROR-ENDS-REQUEST"]),
+    ("A-06.REATEL-??-*OF-THREE", ["RK512.REQ.REATEL-EVENT", "RK512.SEG.ERROR-ENDS-REQUEST"]),
     ("A-06.REATEL-01*", ["RK512.REQ.UNKNOWN-REATEL"]),
     ("A-06.REATEL-42*", ["RK512.REQ.UNKNOWN-REATEL"]),
     ("A-06.REATEL-FF*", ["RK512.REQ.UNKNOWN-REATEL"]),

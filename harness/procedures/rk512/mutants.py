@@ -16,7 +16,15 @@ from math import inf
 from ptpcert.model.codes import Code
 from ptpcert.procedure import Mutant
 from ptpcert.procedures.rk512.model import Rk512Station
-from ptpcert.procedures.rk512.model.codec import CONTINUATION, FETCH, FIRST, HEADER_LEN, response_head
+from ptpcert.procedures.rk512.model.codec import (
+    CHUNK,
+    CONTINUATION,
+    FETCH,
+    FIRST,
+    HEADER_LEN,
+    response_head,
+    status_for_reatel,
+)
 from ptpcert.procedures.rk512.model.events import Served
 from ptpcert.procedures.rk512.model.requests import Request, parse_line
 from ptpcert.procedures.rk512.model.table import PState
@@ -232,6 +240,18 @@ class _(Rk512Station):
     def _d_check_response(self, frame):
         if frame[3]:
             frame = frame[:3] + b"\x00" + frame[4:]
+        return super()._d_check_response(frame)
+
+
+@mutant("error-response-goes-on", "§2.2.3 Fig. 2-19 ('send response with error message': 'partner request "
+        "finished'): after an error number on a response that is not the last, the requester reports it and goes on "
+        "with its next continuation")
+class _(Rk512Station):
+    def _d_check_response(self, frame):
+        job = self.job
+        if job is not None and len(frame) == 4 and frame[3] and job.remaining > CHUNK:
+            self._status(status_for_reatel(frame[3]), "send")
+            frame = frame[:3] + b"\x00" + (bytes(CHUNK) if job.fetch else b"")
         return super()._d_check_response(frame)
 
 
