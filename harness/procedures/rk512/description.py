@@ -453,6 +453,15 @@ class Rk512Procedure(Procedure):
         return {"link": params.link, "priority": params.priority, "roles": tuple(params.roles),
                 "dx": "present" if params.dx_range else "absent"}
 
+    def setting_from_profile(self, profile: Mapping[str, Any], dimensions) -> dict[str, Any]:
+        values = super().setting_from_profile(profile, dimensions)
+        table = profile.get("rk512", {})
+        if "roles" in values:
+            values["roles"] = tuple(values["roles"])
+        if "dx_range" in table:
+            values["dx"] = "present" if table["dx_range"] else "absent"
+        return values
+
     # -- broken variants and fuzzing ------------------------------------------------------
     # -- ptpcert status -------------------------------------------------------------------
     def add_status_arguments(self, group) -> None:
