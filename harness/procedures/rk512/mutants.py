@@ -322,3 +322,7 @@ class _(_LinkMutant):
         priority="high")
 class _(_LinkMutant):
     LINK = "high-priority-yields"
+
+
+# the variants made for the rules catalogue's kill matrix, entered into MUTANTS as they load
+from ptpcert.procedures.rk512 import mutants_rules  # noqa: E402,F401
