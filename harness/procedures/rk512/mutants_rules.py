@@ -77,11 +77,12 @@ class _(Rk512Station):
 
 
 # ---------------------------------------------------------------- the responder's responses and areas
-@mutant("response-sent-twice", "§2.2.3 'Response message frame': every response is sent twice")
+@mutant("response-sent-twice", "§2.2.3 'Response message frame': the positive response that ends a partner's "
+        "request is sent twice")
 class _(Rk512Station):
     def _queue(self, frame, origin, owner, detail=""):
         super()._queue(frame, origin, owner, detail)
-        if origin == "P":
+        if origin == "P" and frame == response_head(True, 0) and getattr(owner, "final", False) and not self._out:
             super()._queue(frame, origin, owner, detail)
 
 
@@ -101,15 +102,6 @@ class _(_Rewrite):
         if origin == "P" and len(frame) > 4 and frame[3] == 0:
             return frame[:4] + bytes(b & 0x7F for b in frame[4:])
         return frame
-
-
-@mutant("response-after-tres", "§2.2.3 'Response message frame'; Fig. 2-18: the responder answers only after 1.5 "
-        "times the partner's T_RES")
-class _(Rk512Station):
-    def _lower_send(self, now, frame):
-        if frame[:3] in (response_head(True, 0)[:3], response_head(False, 0)[:3]) and self.open is not None:
-            now += 1.5 * self._t_res
-        super()._lower_send(now, frame)
 
 
 @mutant("send-to-dx-refused", "§6.3.2 'Receiving data', Table 6-9: a SEND to a DX ('O') is refused with 16h")

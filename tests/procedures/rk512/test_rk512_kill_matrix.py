@@ -109,7 +109,6 @@ KILLS = {
     "RK512.TRES.REQUESTER-EXPIRES": ("no-tres-active", "A-05.NO-RESPONSE"),
     "RK512.TRES.RESPONDER-WAITS": ("passive-tres-quarter", "P-10.CONTINUATION-IN-TIME"),
     "RK512.TRES.RESPONDER-EXPIRES": ("passive-tres-ignored", "P-10.CONTINUATION-TOO-LATE"),
-    "RK512.TRES.RESPONSE-IN-TIME": ("response-after-tres", "P-03.RESPONSE-TIME"),
     # flags, quasi-full-duplex, local checks, areas, STATUS
     "RK512.FLAG.LOCKED": ("flag-lock-ignored", "P-11.FLAG-SET-REFUSES"),
     "RK512.FLAG.SET-AFTER-TRANSFER": ("flag-never-cleared", "P-11.FLAG-RESET-ALLOWS"),
@@ -140,6 +139,10 @@ UNREACHED: dict[str, str] = {
     "RK512.QFD.REQUEST-WHILE-SERVING": "a variant that defers its own request while it serves the partner's one "
                                        "would need a second scheduler in the model's active side; P-16 checks "
                                        "the rule against the reference and any IUT",
+    "RK512.TRES.RESPONSE-IN-TIME": "a variant that answers late would hand its response to the link at a later "
+                                   "time, and the link's clock cannot run ahead of the partner's characters "
+                                   "(the model raises 'time went backwards' when the partner sends meanwhile); "
+                                   "P-03 checks the rule against any IUT",
 }
 
 
