@@ -50,7 +50,8 @@ class _(Rk512Station):
 @mutant("byte1-reatel-16", "Table 8-3 (16#0601: 10h): a command byte 1 other than 00h/FFh is refused with 16h")
 class _(Rk512Station):
     def _p_refuse_bad_id(self, frame):
-        self._reply_with(frame, Code.CMD_BYTE1_INVALID, 0x16, None)
+        self._status(Code.CMD_BYTE1_INVALID, "receive")
+        self._queue(response_head(True, 0x16), "P", None, "REATEL 16h for 16#0601")
 
 
 @mutant("reatel-36-as-37", "§8.4 Table 8-3: the synchronisation error is sent as 37h, a number the table does not list")

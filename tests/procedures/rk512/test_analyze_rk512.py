@@ -431,6 +431,23 @@ SCENARIOS = {
     "link-no-dle-doubling": ("ref", [("b", "send DB16:DW0:LEN=4:DATA=10101010")]),
     "link-bcc-not-checked": ("bcc-includes-stx", [("raw", header("A", "D", 10, 0, 2) + bytes(4))]),
     "link-high-priority-yields": ("ref", [("both", "send DB10:DW0:LEN=10", "send DB11:DW0:LEN=10")]),
+    # the variants of the rules catalogue's kill matrix that the line shows
+    "check-byte3-reatel-10": ("ref", [("raw", header("C", "D", 10, 0, 3))]),
+    "check-byte4-reatel-16": ("ref", [("raw", header("E", "Q", 10, 0, 3))]),
+    "check-address-reatel-14": ("ref", [("raw", header("E", "E", 1, 0, 2))]),
+    "check-length-reatel-0c": ("ref", [("raw", header("E", "D", 10, 0, 0))]),
+    "check-flag-reatel-34": ("ref", [("raw", header("E", "D", 10, 0, 3, b9=0, b10=0x18))]),
+    "check-cpu-reatel-14": ("ref", [("raw", header("E", "D", 10, 0, 3, b10=0x5F))]),
+    "check-short-reatel-16": ("ref", [("raw", header("E", "D", 10, 0, 3)[:6])]),
+    "byte1-reatel-16": ("ref", [("raw", header("E", "D", 10, 0, 3, b1=0x01))]),
+    "reatel-36-as-37": ("ref", [("raw", CONT_72)]),
+    "send-to-dx-refused": ("ref", [("a", "send DX7:DW0:LEN=4")]),
+    "byte-areas-not-served": ("ref", [("a", "fetch E:0:LEN=6")]),
+    "fetch-response-in-two-blocks": ("ref", [("a", "fetch DB10:DW0:LEN=6")]),
+    "response-sent-twice": ("ref", [("a", "send DB10:DW0:LEN=10")]),
+    "send-dx-type-x": ("ref", [("b", "send DX7:DW0:LEN=4")]),
+    "fetch-command-letter-f": ("ref", [("b", "fetch DB10:DW0:LEN=6")]),
+    "length-of-first-frame": ("ref", [("b", "send DB10:DW0:LEN=200")]),
 }
 
 #: where the manual states the rule each variant breaks (what its first finding must cite)
@@ -449,6 +466,12 @@ BROKEN_RULE = {
     "fetch-length-not-checked": "Fig. 2-18", "no-tres-active": "Fig. 2-18", "tres-half": "Fig. 2-18",
     "link-no-dle-doubling": "Sending data", "link-bcc-not-checked": "Receive",
     "link-high-priority-yields": "Initialization conflict",
+    "check-byte3-reatel-10": "Table 8-3", "check-byte4-reatel-16": "Table 8-3", "check-address-reatel-14": "Table 8-3",
+    "check-length-reatel-0c": "Table 8-3", "check-flag-reatel-34": "Table 8-3", "check-cpu-reatel-14": "Table 8-3",
+    "check-short-reatel-16": "Table 8-3", "byte1-reatel-16": "Table 8-3", "reatel-36-as-37": "Table 8-3",
+    "send-to-dx-refused": "Table 8-3", "byte-areas-not-served": "Table 8-3",
+    "fetch-response-in-two-blocks": "Figs. 2-15, 2-16", "response-sent-twice": "'Response message frame'",
+    "send-dx-type-x": "Table 2-1", "fetch-command-letter-f": "Table 2-1", "length-of-first-frame": "Fig. 2-18",
 }
 
 #: broken variants not yet checked against the analysis: each must move to BROKEN_RULE (or
@@ -472,11 +495,12 @@ NOT_VISIBLE_ON_THE_WIRE = {
 #: the variants made for the rules catalogue's kill matrix (mutants_rules.py): the kill matrix
 #: proves each fails a case citing its rule; their review against the line analysis (a scenario
 #: here, or a proof that the line cannot show them) is still to be done
-KILL_MATRIX_VARIANTS = frozenset(n for n, m in MUTANTS.items() if m.make.__module__.endswith(".mutants_rules"))
+KILL_MATRIX_VARIANTS = frozenset(n for n, m in MUTANTS.items() if m.make.__module__.endswith(".mutants_rules")
+                                 and n not in BROKEN_RULE)
 
 
 def test_every_rk512_broken_variant_has_the_rule_it_breaks_named():
-    assert KILL_MATRIX_VARIANTS and not KILL_MATRIX_VARIANTS & (set(BROKEN_RULE) | set(NOT_VISIBLE_ON_THE_WIRE))
+    assert not KILL_MATRIX_VARIANTS & set(NOT_VISIBLE_ON_THE_WIRE)
     sets = (set(BROKEN_RULE), set(NOT_VISIBLE_ON_THE_WIRE), set(NOT_YET_REVIEWED), set(KILL_MATRIX_VARIANTS))
     assert sum(map(len, sets)) == len(set().union(*sets))
     assert set().union(*sets) == set(MUTANTS)
