@@ -224,14 +224,24 @@ class _(_Rewrite):
         return frame
 
 
-@mutant("odd-send-not-padded", "§6.3.2 'Important notes': a SEND of odd LEN to a DB drops its last byte (no pad word)")
-class _(Rk512Station):
+class _RequestChange(Rk512Station):
+    """A station whose application's requests are changed before the station takes them."""
+
+    def change(self, req: Request) -> Request:
+        return req
+
     def request(self, now, req):
         if isinstance(req, str):
             req = parse_line(req)
-        if isinstance(req, Request) and req.op == "send" and req.area.block and req.length % 2:
+        return super().request(now, self.change(req) if isinstance(req, Request) else req)
+
+
+@mutant("odd-send-not-padded", "§6.3.2 'Important notes': a SEND of odd LEN to a DB drops its last byte (no pad word)")
+class _(_RequestChange):
+    def change(self, req):
+        if req.op == "send" and req.area.block and req.length % 2:
             req = replace(req, length=req.length - 1, data=None if req.data is None else req.data[:-1])
-        return super().request(now, req)
+        return req
 
 
 # ---------------------------------------------------------------- active: responses and T_RES

@@ -11,8 +11,7 @@ from dataclasses import replace
 from ptpcert.model.codes import Code
 from ptpcert.procedures.rk512.model import Rk512Station
 from ptpcert.procedures.rk512.model.codec import CHUNK, FIRST, response_head
-from ptpcert.procedures.rk512.model.requests import Request, parse_line
-from ptpcert.procedures.rk512.mutants import _LinkMutant, _Rewrite, mutant
+from ptpcert.procedures.rk512.mutants import _LinkMutant, _RequestChange, _Rewrite, mutant
 
 _FETCH, _SEND_DB, _SEND_DX = 0x45, 0x41, 0x4F
 
@@ -212,13 +211,9 @@ class _(_Rewrite):
 
 
 @mutant("odd-offset-rounded-up", "§6.3.2 'Important notes': an odd offset into a partner DB is rounded up, not down")
-class _(Rk512Station):
-    def request(self, now, req):
-        if isinstance(req, str):
-            req = parse_line(req)
-        if isinstance(req, Request) and req.area.block and req.address % 2:
-            req = replace(req, address=req.address + 1)
-        return super().request(now, req)
+class _(_RequestChange):
+    def change(self, req):
+        return replace(req, address=req.address + 1) if req.area.block and req.address % 2 else req
 
 
 @mutant("local-checks-skipped", "§6.3.2 Tables 6-4, 6-6; Table 8-1 class 05: the requester checks nothing before it "

@@ -228,7 +228,6 @@ def test_a_second_command_before_the_first_is_answered_is_found():
 
 def test_every_rule_a_finding_cites_is_in_the_catalogue_and_every_response_problem_has_ids():
     from ptpcert.procedures.rk512.analysis import judging
-    from ptpcert.rules import for_procedure, for_rule
     cat = for_procedure("rk512")
     cited = [i for ids in (*judging.RULE_IDS.values(), *judging._PROBLEM_IDS.values()) for i in ids]
     assert cited and not cat.unknown(cited)

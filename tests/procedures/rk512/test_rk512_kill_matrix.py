@@ -8,14 +8,13 @@ or a reason."""
 from functools import lru_cache
 
 import pytest
+from rk512_profiles import run_cases
 
 from ptpcert import results as R
 from ptpcert.registry import by_id
 from ptpcert.rules import for_procedure
-from ptpcert.runner import Runner, RunOptions
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
-from ptpcert.transport import make_factory
 
 PROC = by_id("rk512")
 CATALOGUE = for_procedure("rk512")
@@ -162,13 +161,7 @@ def _setting(keys: tuple):
 
 def _run(url: str, keys: tuple, cases: list[str]) -> dict[str, R.CaseResult]:
     profile, suite = _setting(keys)
-    selected = [suite[c] for c in cases if c in suite]
-    res = R.RunResult(tool_version="test", started="")
-    factory = make_factory(url, profile)
-    try:
-        Runner(factory, profile, RunOptions()).run(selected, res)
-    finally:
-        factory.shutdown()
+    res = run_cases(url, profile, [suite[c] for c in cases if c in suite])
     return {c.id: c for c in res.cases}
 
 
