@@ -14,7 +14,6 @@ from dataclasses import replace
 from math import inf
 
 from ptpcert.model.codes import Code
-from ptpcert.procedure import Mutant
 from ptpcert.procedures.rk512.model import Rk512Station
 from ptpcert.procedures.rk512.model.codec import (
     CHUNK,
@@ -26,24 +25,11 @@ from ptpcert.procedures.rk512.model.codec import (
     status_for_reatel,
 )
 from ptpcert.procedures.rk512.model.events import Served
-from ptpcert.procedures.rk512.model.requests import Request, parse_line
 from ptpcert.procedures.rk512.model.table import PState
-from ptpcert.variants import registrar
+from ptpcert.procedures.rk512.mutant_base import MUTANTS, LinkMutant, RequestChange, Rewrite, mutant
 
-MUTANTS: dict[str, Mutant] = {}
-
-
-mutant = registrar(MUTANTS, prefix="Rk512Mutant_")
-
-
-class _Rewrite(Rk512Station):
-    """A station whose frames are changed on their way to the link."""
-
-    def rewrite(self, frame: bytes, origin: str, owner) -> bytes:
-        return frame
-
-    def _queue(self, frame, origin, owner, detail=""):
-        super()._queue(self.rewrite(bytes(frame), origin, owner), origin, owner, detail)
+# the registry and the variants' common kinds live in mutant_base, shared with mutants_rules
+_Rewrite, _RequestChange, _LinkMutant = Rewrite, RequestChange, LinkMutant
 
 
 # ---------------------------------------------------------------- passive: responses
@@ -224,18 +210,6 @@ class _(_Rewrite):
         return frame
 
 
-class _RequestChange(Rk512Station):
-    """A station whose application's requests are changed before the station takes them."""
-
-    def change(self, req: Request) -> Request:
-        return req
-
-    def request(self, now, req):
-        if isinstance(req, str):
-            req = parse_line(req)
-        return super().request(now, self.change(req) if isinstance(req, Request) else req)
-
-
 @mutant("odd-send-not-padded", "§6.3.2 'Important notes': a SEND of odd LEN to a DB drops its last byte (no pad word)")
 class _(_RequestChange):
     def change(self, req):
@@ -309,15 +283,6 @@ class _(Rk512Station):
 
 
 # ---------------------------------------------------------------- the link below
-class _LinkMutant(Rk512Station):
-    LINK = ""
-
-    def __init__(self, params, *a, name: str = "station", **kw):
-        super().__init__(params, *a, name=name, **kw)
-        from ptpcert.procedures.p3964.mutants import MUTANTS as LINK_MUTANTS
-        self.link = LINK_MUTANTS[self.LINK].make(self.params.line, name=name)
-
-
 @mutant("link-no-dle-doubling", "§2.2.2 note (DLE doubling): the link does not double data DLEs in RK 512 frames")
 class _(_LinkMutant):
     LINK = "no-dle-doubling"
@@ -336,3 +301,5 @@ class _(_LinkMutant):
 
 # the variants made for the rules catalogue's kill matrix, entered into MUTANTS as they load
 from ptpcert.procedures.rk512 import mutants_rules  # noqa: E402,F401
+
+__all__ = ["MUTANTS", "mutant"]

@@ -2,7 +2,8 @@
 (``ptpcert rules --procedure RK512``) that the variants of :mod:`.mutants` do not break on
 purpose, so that the kill matrix (tests/procedures/rk512/test_rk512_kill_matrix.py) shows a
 case failing each rule's own defect. Entered into the same registry as :mod:`.mutants`
-(which imports this module at its end)."""
+(which imports this module at its end); both take their registry and kinds of change from
+:mod:`.mutant_base`."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ from dataclasses import replace
 from ptpcert.model.codes import Code
 from ptpcert.procedures.rk512.model import Rk512Station
 from ptpcert.procedures.rk512.model.codec import CHUNK, FIRST, response_head
-from ptpcert.procedures.rk512.mutants import _LinkMutant, _RequestChange, _Rewrite, mutant
+from ptpcert.procedures.rk512.mutant_base import LinkMutant, RequestChange, Rewrite, mutant
 
 _FETCH, _SEND_DB, _SEND_DX = 0x45, 0x41, 0x4F
 
@@ -54,7 +55,7 @@ class _(Rk512Station):
 
 
 @mutant("reatel-36-as-37", "§8.4 Table 8-3: the synchronisation error is sent as 37h, a number the table does not list")
-class _(_Rewrite):
+class _(Rewrite):
     def rewrite(self, frame, origin, owner):
         if origin == "P" and len(frame) == 4 and frame[3] == 0x36:
             return frame[:3] + b"\x37"
@@ -97,7 +98,7 @@ class _(Rk512Station):
 
 
 @mutant("data-bit-7-cleared", "§2.3.2 note (8 data bits): FETCH data leave with bit 7 cleared (a 7-bit data path)")
-class _(_Rewrite):
+class _(Rewrite):
     def rewrite(self, frame, origin, owner):
         if origin == "P" and len(frame) > 4 and frame[3] == 0:
             return frame[:4] + bytes(b & 0x7F for b in frame[4:])
@@ -159,7 +160,7 @@ def _first_command(frame: bytes) -> bool:
 
 
 @mutant("send-dx-type-x", "§2.2.3 Table 2-1 byte 4 ('only D when sending'): a SEND to a DX is sent 'O' 'X'")
-class _(_Rewrite):
+class _(Rewrite):
     def rewrite(self, frame, origin, owner):
         if origin == "A" and len(frame) >= 4 and frame[2] == _SEND_DX:
             return frame[:3] + b"X" + frame[4:]
@@ -167,7 +168,7 @@ class _(_Rewrite):
 
 
 @mutant("fetch-command-letter-f", "§2.2.3 Table 2-1 byte 3: a FETCH is sent with 'F' (46h), not 'E'")
-class _(_Rewrite):
+class _(Rewrite):
     def rewrite(self, frame, origin, owner):
         if origin == "A" and len(frame) >= 4 and frame[2] == _FETCH:
             return frame[:2] + b"F" + frame[3:]
@@ -175,7 +176,7 @@ class _(_Rewrite):
 
 
 @mutant("fetch-dx-as-d", "§6.3.2 Table 6-8: a FETCH from a DX is sent with type 'D', not 'X'")
-class _(_Rewrite):
+class _(Rewrite):
     def rewrite(self, frame, origin, owner):
         if origin == "A" and len(frame) >= 4 and frame[2] == _FETCH and frame[3] == ord("X"):
             return frame[:3] + b"D" + frame[4:]
@@ -184,7 +185,7 @@ class _(_Rewrite):
 
 @mutant("dw-sent-as-byte-offset", "§2.2.3 Table 2-1 footnote 1: byte 6 of a DB/DX command is the byte offset, not "
         "the data word")
-class _(_Rewrite):
+class _(Rewrite):
     def rewrite(self, frame, origin, owner):
         if origin == "A" and _first_command(frame) and frame[3] in b"DX":
             return frame[:5] + bytes([(2 * frame[5]) & 0xFF]) + frame[6:]
@@ -193,7 +194,7 @@ class _(_Rewrite):
 
 @mutant("byte-length-in-words", "§2.2.3 Table 2-1 bytes 7/8: a FETCH of inputs, outputs or flags counts its length "
         "in words")
-class _(_Rewrite):
+class _(Rewrite):
     def rewrite(self, frame, origin, owner):
         if origin == "A" and _first_command(frame) and frame[2] == _FETCH and frame[3] in b"EAM":
             n = -(-((frame[6] << 8) | frame[7]) // 2)
@@ -203,7 +204,7 @@ class _(_Rewrite):
 
 @mutant("length-of-first-frame", "§2.2.3 Table 2-1 bytes 7/8: the first frame of a long SEND announces only its own "
         "128 bytes")
-class _(_Rewrite):
+class _(Rewrite):
     def rewrite(self, frame, origin, owner):
         if origin == "A" and _first_command(frame) and frame[2] != _FETCH and len(frame) == 10 + CHUNK:
             return frame[:6] + bytes([0, CHUNK // 2]) + frame[8:]
@@ -211,7 +212,7 @@ class _(_Rewrite):
 
 
 @mutant("odd-offset-rounded-up", "§6.3.2 'Important notes': an odd offset into a partner DB is rounded up, not down")
-class _(_RequestChange):
+class _(RequestChange):
     def change(self, req):
         return replace(req, address=req.address + 1) if req.area.block and req.address % 2 else req
 
@@ -288,11 +289,11 @@ mutant("short-response-taken", "Table 8-1 16#0610: a response of fewer than 4 by
 
 # ---------------------------------------------------------------- the link below
 @mutant("link-cdt-half", "§2.2.2 'Receiving data' (character delay time): the link waits half the CDT")
-class _(_LinkMutant):
+class _(LinkMutant):
     LINK = "cdt-half"
 
 
 @mutant("link-3964-waits-for-bcc", "§2.2.3 Figs. 2-13 to 2-16 ('only with BCC'): over plain 3964 the link waits "
         "for a BCC after DLE ETX", link="3964")
-class _(_LinkMutant):
+class _(LinkMutant):
     LINK = "3964-waits-for-bcc"
