@@ -62,9 +62,17 @@ class Rule:
 
     def applies_to(self, setting: dict[str, Any]) -> bool:
         """Whether the rule applies to an IUT with these settings (procedure, priority,
-        data_bits; a dimension missing from ``setting`` matches)."""
+        data_bits; a dimension missing from ``setting`` matches). Where the setting holds
+        several values of a dimension (the roles an IUT plays), the rule applies when the
+        IUT has every value the rule lists (a rule of both roles needs both)."""
         for dim, values in self.applies.items():
-            if dim in setting and setting[dim] not in values:
+            if dim not in setting:
+                continue
+            have = setting[dim]
+            if isinstance(have, (list, tuple, set, frozenset)):
+                if not set(values) <= set(have):
+                    return False
+            elif have not in values:
                 return False
         return True
 
