@@ -394,6 +394,7 @@ MUTANTS = PROC.mutants()
 #: the frames a partner crafts (Table 2-1, written from the manual in rk512_rules)
 SEND_200 = header("A", "D", 10, 0, 100) + bytes(128)           # the first frame of a 200-byte SEND
 CONT_72 = bytes([0xFF, 0x00, ord("A"), ord("D")]) + bytes(72)  # its continuation
+BYTE2_01 = header("E", "D", 10, 0, 3)[:1] + b"\x01" + header("E", "D", 10, 0, 3)[2:]   # a FETCH with byte 2 01h
 
 #: How the line shows each variant's defect: the partner in seat a ("ref": the reference
 #: station, which also sends the raw frames a step names; "bare": a 3964R station that sends
@@ -448,7 +449,7 @@ SCENARIOS = {
     "send-dx-type-x": ("ref", [("b", "send DX7:DW0:LEN=4")]),
     "fetch-command-letter-f": ("ref", [("b", "fetch DB10:DW0:LEN=6")]),
     "length-of-first-frame": ("ref", [("b", "send DB10:DW0:LEN=200")]),
-    "check-byte2-reatel-16": ("ref", [("raw", header("E", "D", 10, 0, 3)[:1] + b"\x01" + header("E", "D", 10, 0, 3)[2:])]),
+    "check-byte2-reatel-16": ("ref", [("raw", BYTE2_01)]),
     "cell-limit-ignored": ("ref", [("a", "fetch Z:0:LEN=40")]),       # (its profile: 32 bytes at most)
     "length-limit-512": ("ref", [("a", "send DB10:DW0:LEN=600")]),    # (a DB of 2048 bytes: SETTINGS)
     # (the continuation at half T_RES: past a quarter, and past the tolerance of a timer)
@@ -521,13 +522,14 @@ NOT_VISIBLE_ON_THE_WIRE = {
     "byte-length-in-words": "its FETCH of 6 flag bytes is the reference's FETCH of 3: the request is not on the line",
     "dw-sent-as-byte-offset": "its SEND from DW 3 is the reference's SEND from DW 6: the request is not on the line",
     "fetch-dx-as-d": "its FETCH from DX 7 is the reference's FETCH from DB 7: the request is not on the line",
-    "odd-offset-rounded-up": "its SEND from offset 3 is the reference's SEND from offset 4: the request is not on the line",
+    "odd-offset-rounded-up": "its SEND from offset 3 is the reference's SEND from offset 4: the request is not "
+                             "on the line",
     "data-bit-7-cleared": "the data values of a FETCH: the memory behind the station is not on the line",
     "flag-never-cleared": "a coordination flag is the application's: it may have set the flag again at any time",
     "fetched-data-reversed": "only what it stores of a FETCH response differs: its memory is not on the line",
     "odd-fetch-stores-pad": "only what it stores of a FETCH response differs: its memory is not on the line",
-    "responder-events-not-reported": "only the STATUS it reports differs (none for 16#0606): a STATUS is not on the line",
-    "response-failure-not-reported": "only the STATUS it reports differs (none for 16#0612): a STATUS is not on the line",
+    "responder-events-not-reported": "only the STATUS it reports differs (none for 16#0606): not on the line",
+    "response-failure-not-reported": "only the STATUS it reports differs (none for 16#0612): not on the line",
 }
 
 #: of those, the variants whose defect is only what the station reports or stores: their line
