@@ -21,11 +21,12 @@ from ptpcert import capture as C
 from ptpcert import results as R
 from ptpcert.cli import main as cli_main
 from ptpcert.model.codes import Code
+from ptpcert.model.events import Status
 from ptpcert.model.link import Link
 from ptpcert.registry import by_name
 from ptpcert.procedures.p3964.model.params import Params3964
 from ptpcert.procedures.p3964.model.station import Station3964
-from ptpcert.procedures.rk512.model import RK512_READINGS, Rk512Station
+from ptpcert.procedures.rk512.model import RK512_READINGS, RequestResult, Rk512Station
 from ptpcert.profile import load_profile
 from ptpcert.rules import for_procedure, for_rule
 from ptpcert.runner import Runner, RunOptions
@@ -393,6 +394,7 @@ MUTANTS = PROC.mutants()
 #: the frames a partner crafts (Table 2-1, written from the manual in rk512_rules)
 SEND_200 = header("A", "D", 10, 0, 100) + bytes(128)           # the first frame of a 200-byte SEND
 CONT_72 = bytes([0xFF, 0x00, ord("A"), ord("D")]) + bytes(72)  # its continuation
+BYTE2_01 = header("E", "D", 10, 0, 3)[:1] + b"\x01" + header("E", "D", 10, 0, 3)[2:]   # a FETCH with byte 2 01h
 
 #: How the line shows each variant's defect: the partner in seat a ("ref": the reference
 #: station, which also sends the raw frames a step names; "bare": a 3964R station that sends
@@ -447,7 +449,30 @@ SCENARIOS = {
     "send-dx-type-x": ("ref", [("b", "send DX7:DW0:LEN=4")]),
     "fetch-command-letter-f": ("ref", [("b", "fetch DB10:DW0:LEN=6")]),
     "length-of-first-frame": ("ref", [("b", "send DB10:DW0:LEN=200")]),
+    "check-byte2-reatel-16": ("ref", [("raw", BYTE2_01)]),
+    "cell-limit-ignored": ("ref", [("a", "fetch Z:0:LEN=40")]),       # (its profile: 32 bytes at most)
+    "length-limit-512": ("ref", [("a", "send DB10:DW0:LEN=600")]),    # (a DB of 2048 bytes: SETTINGS)
+    # (the continuation at half T_RES: past a quarter, and past the tolerance of a timer)
+    "passive-tres-quarter": ("ref", [("raw", SEND_200), ("wait", 5.0), ("raw", CONT_72)]),
+    "link-3964-waits-for-bcc": ("ref", [("a", "send DB10:DW0:LEN=10")]),
+    # (DB 0: the FB refuses it, Table 6-4; it reaches the line only if nothing is checked)
+    "local-checks-skipped": ("ref", [("b", "send DB0:DW0:LEN=4")]),
+    # (a wrong response to the first frame of three: the requester must end the request there)
+    "response-byte1-not-checked": ("bare", [("b", "send DB10:DW0:LEN=200"), ("raw", bytes([1, 0, 0, 0]))]),
+    "send-response-data-ignored": ("bare", [("b", "send DB10:DW0:LEN=200"), ("raw", response(0, data=bytes(2)))]),
+    "short-response-taken": ("bare", [("b", "send DB10:DW0:LEN=200"), ("raw", bytes(3))]),
+    "response-id-not-checked": ("bare", [("b", "send DB10:DW0:LEN=300"), ("raw", response(0)), ("raw", response(0))]),
+    # (a's command while b's three-frame SEND goes on; a answers each of b's frames after 8 s)
+    "responses-held-while-requesting": ("bare", [
+        ("b", "send DB10:DW0:LEN=300"), ("raw", header("A", "D", 12, 0, 2) + bytes(4)), ("wait", 8.0),
+        ("raw", response(0)), ("wait", 8.0), ("raw", response(0, first=False)), ("wait", 8.0),
+        ("raw", response(0, first=False))]),
+    # (a conforming sender that pauses 0.7 CDT inside its block)
+    "link-cdt-half": ("slow", [("raw", header("A", "D", 10, 0, 5) + bytes(10))]),
 }
+
+#: the seat's settings a scenario needs beyond the variant's profile
+SETTINGS = {"length-limit-512": {"db_bytes": 2048}}     # the kill matrix's areas: a SEND of 600 bytes fits
 
 #: where the manual states the rule each variant breaks (what its first finding must cite)
 BROKEN_RULE = {
@@ -471,6 +496,12 @@ BROKEN_RULE = {
     "send-to-dx-refused": "Table 8-3", "byte-areas-not-served": "Table 8-3",
     "fetch-response-in-two-blocks": "Figs. 2-15, 2-16", "response-sent-twice": "'Response message frame'",
     "send-dx-type-x": "Table 2-1", "fetch-command-letter-f": "Table 2-1", "length-of-first-frame": "Fig. 2-18",
+    "check-byte2-reatel-16": "Table 8-3", "cell-limit-ignored": "Table 8-3", "length-limit-512": "Table 8-3",
+    "passive-tres-quarter": "Fig. 2-19", "link-3964-waits-for-bcc": "Fig. 2-12 '3964'",
+    "local-checks-skipped": "Tables 6-4 to 6-8", "response-byte1-not-checked": "Fig. 2-18",
+    "send-response-data-ignored": "Fig. 2-18", "short-response-taken": "Fig. 2-18",
+    "response-id-not-checked": "Fig. 2-18", "responses-held-while-requesting": "'Quasi-full-duplex'",
+    "link-cdt-half": "T_CDT",
 }
 
 #: broken variants not yet checked against the analysis: each must move to BROKEN_RULE (or
@@ -488,31 +519,57 @@ NOT_VISIBLE_ON_THE_WIRE = {
     "odd-send-not-padded": "its SEND of 9 bytes is the reference's SEND of 8: the request is not on the line",
     "unknown-reatel-0905": "only the STATUS it reports differs (16#0905 for 16#090E): a STATUS is not on the line",
     "retry-after-link-failure": "its retried request is the reference's request issued again by its application",
+    "byte-length-in-words": "its FETCH of 6 flag bytes is the reference's FETCH of 3: the request is not on the line",
+    "dw-sent-as-byte-offset": "its SEND from DW 3 is the reference's SEND from DW 6: the request is not on the line",
+    "fetch-dx-as-d": "its FETCH from DX 7 is the reference's FETCH from DB 7: the request is not on the line",
+    "odd-offset-rounded-up": "its SEND from offset 3 is the reference's SEND from offset 4: the request is not "
+                             "on the line",
+    "data-bit-7-cleared": "the data values of a FETCH: the memory behind the station is not on the line",
+    "flag-never-cleared": "a coordination flag is the application's: it may have set the flag again at any time",
+    "fetched-data-reversed": "only what it stores of a FETCH response differs: its memory is not on the line",
+    "odd-fetch-stores-pad": "only what it stores of a FETCH response differs: its memory is not on the line",
+    "responder-events-not-reported": "only the STATUS it reports differs (none for 16#0606): not on the line",
+    "response-failure-not-reported": "only the STATUS it reports differs (none for 16#0612): not on the line",
 }
 
-
-#: the variants made for the rules catalogue's kill matrix (mutants_rules.py): the kill matrix
-#: proves each fails a case citing its rule; their review against the line analysis (a scenario
-#: here, or a proof that the line cannot show them) is still to be done
-KILL_MATRIX_VARIANTS = frozenset(n for n, m in MUTANTS.items() if m.make.__module__.endswith(".mutants_rules")
-                                 and n not in BROKEN_RULE)
+#: of those, the variants whose defect is only what the station reports or stores: their line
+#: is the reference's in the same state with the same request
+LOCAL_ONLY = frozenset({"unknown-reatel-0905", "fetched-data-reversed", "odd-fetch-stores-pad",
+                        "responder-events-not-reported", "response-failure-not-reported"})
 
 
 def test_every_rk512_broken_variant_has_the_rule_it_breaks_named():
-    assert not KILL_MATRIX_VARIANTS & set(NOT_VISIBLE_ON_THE_WIRE)
-    sets = (set(BROKEN_RULE), set(NOT_VISIBLE_ON_THE_WIRE), set(NOT_YET_REVIEWED), set(KILL_MATRIX_VARIANTS))
+    """Every variant, those made for the rules catalogue's kill matrix (mutants_rules.py)
+    too, is reviewed against the line analysis: a scenario here, or a proof that the line
+    cannot show it."""
+    sets = (set(BROKEN_RULE), set(NOT_VISIBLE_ON_THE_WIRE), set(NOT_YET_REVIEWED))
     assert sum(map(len, sets)) == len(set().union(*sets))
     assert set().union(*sets) == set(MUTANTS)
-    assert set(SCENARIOS) == set(BROKEN_RULE)
+    assert set(SCENARIOS) == set(BROKEN_RULE) and set(SETTINGS) <= set(SCENARIOS)
+    assert set(PROOFS) == set(NOT_VISIBLE_ON_THE_WIRE) and LOCAL_ONLY <= set(NOT_VISIBLE_ON_THE_WIRE)
     assert not NOT_YET_REVIEWED
 
 
-def _seat_a(kind: str):
-    pa = params("high")
+class _SlowSender(Station3964):
+    """A conforming 3964(R) station that pauses for 0.7 CDT after the fourth character of each
+    block it sends (§2.2.2 'Receiving data': a gap shorter than CDT is no error)."""
+
+    def _send(self, data: bytes) -> float:
+        if len(data) > 8:
+            self._tx.schedule(self.now, data[:4])
+            self._tx.free_at += 0.7 * self.params.cdt
+            data = data[4:]
+        return super()._send(data)
+
+
+def _seat_a(kind: str, proc: str = "3964R"):
+    pa = params("high", proc=proc)
     if kind == "ref":
         return Rk512Station(pa, name="a")
     if kind == "bare":
         return Station3964(pa.line, name="a")
+    if kind == "slow":
+        return _SlowSender(pa.line, name="a")
     if kind in MUTANTS:
         return MUTANTS[kind].make(pa, name="a")
     from ptpcert.procedures.p3964.mutants import MUTANTS as LINK_MUTANTS
@@ -523,11 +580,12 @@ def scenario_capture(name: str, b_kind: str = "variant") -> tuple[C.Capture, obj
     """The scenario of ``name`` with the variant (``b_kind`` "variant") or the reference
     ("reference") in seat b: the capture of the whole line, and both seats' parameters."""
     partner, steps = SCENARIOS[name]
-    a = _seat_a(partner)
-    prof = MUTANTS[name].profile
-    pb = params(prof.get("priority", "low"))
+    prof = {**MUTANTS[name].profile, **SETTINGS.get(name, {})}   # the variant's setting: priority, link, limits
+    proc = prof.pop("link", "3964R")
+    a = _seat_a(partner, proc)
+    pb = params(prof.pop("priority", "low"), proc=proc, **prof)
     if pb.priority == "high":
-        a = Rk512Station(params("low"), name="a") if partner == "ref" else a
+        a = Rk512Station(params("low", proc=proc), name="a") if partner == "ref" else a
     b = MUTANTS[name].make(pb, name="b") if b_kind == "variant" else Rk512Station(pb, name="b")
     link = settle(Link(a, b))
     link.run_until(link.now + 5.0)     # a quiet line first: every station is known to be at rest
@@ -553,7 +611,7 @@ def scenario_capture(name: str, b_kind: str = "variant") -> tuple[C.Capture, obj
     link.run_until(link.now + 1.5 * pb.t_res)
     cap = link_capture(link)
     cap.end = link.now
-    pa = a.params if isinstance(a, Rk512Station) else params(a.params.priority)
+    pa = a.params if isinstance(a, Rk512Station) else params(a.params.priority, proc=proc)
     return cap, pa, pb
 
 
@@ -587,19 +645,36 @@ def _proof_link(b, partner="ref") -> tuple[Link, object, object]:
 
 
 def _run_steps(link: Link, steps) -> None:
-    for who, what in steps:
+    for who, what, *limit in steps:       # (a step may bound how long the line runs on after it)
         t = link.now + 0.05
         if who == "raw":
             link.a.request_send(t, what)
         else:
             (link.a if who == "a" else link.b).request(t, what)
-        link.run_until_quiet(t + 40.0)
+        link.run_until_quiet(t + (limit[0] if limit else 40.0))
     link.run_until(link.now + 1.5 * link.b.params.t_res)
 
 
 def _swapped_words(st) -> None:
     db = st.memory.db[10]
     db[0::2], db[1::2] = db[1::2], db[0::2]
+
+
+_HIGH = bytes([0x81, 0x92, 0xA3, 0xB4, 0xC5, 0xD6])
+
+
+def _high_bits(st) -> None:
+    st.memory.db[10][:6] = _HIGH
+
+
+def _high_bits_cleared(st) -> None:
+    st.memory.db[10][:6] = bytes(b & 0x7F for b in _HIGH)
+
+
+def _flag_set_and_reset(st) -> None:
+    st.memory.set_flag(0, 0, 1)
+    st.memory.set_flag(0, 0, 0)      # the user program resets it (the variant keeps it set)
+
 
 
 #: for each variant not visible on the wire: the variant's set-up and steps, and the
@@ -613,12 +688,26 @@ PROOFS = {
     "cpu-nibble-0": (None, [("b", "send DB10:DW0:LEN=4")], None, [("b", "send DB10:DW0:LEN=4:CPU=0")]),
     "odd-send-not-padded": (None, [("b", "send DB10:DW0:LEN=9:DATA=010203040506070809")],
                             None, [("b", "send DB10:DW0:LEN=8:DATA=0102030405060708")]),
-    "unknown-reatel-0905": (None, [("b", "send DB10:DW0:LEN=4"), ("raw", response(0x42))],
-                            None, [("b", "send DB10:DW0:LEN=4"), ("raw", response(0x42))]),
+    # (the partner's answer within b's T_RES)
+    "unknown-reatel-0905": (None, [("b", "send DB10:DW0:LEN=4", 2.0), ("raw", response(0x42))],
+                            None, [("b", "send DB10:DW0:LEN=4", 2.0), ("raw", response(0x42))]),
     "retry-after-link-failure": (None, [("b", "send DB10:DW0:LEN=4")],
                                  None, [("b", "send DB10:DW0:LEN=4"), ("b", "send DB10:DW0:LEN=4")]),
+    "byte-length-in-words": (None, [("b", "fetch M:0:LEN=6")], None, [("b", "fetch M:0:LEN=3")]),
+    "dw-sent-as-byte-offset": (None, [("b", "send DB10:DW3:LEN=4")], None, [("b", "send DB10:DW6:LEN=4")]),
+    "fetch-dx-as-d": (None, [("b", "fetch DX7:DW0:LEN=6")], None, [("b", "fetch DB7:DW0:LEN=6")]),
+    "odd-offset-rounded-up": (None, [("b", "send DB10:OFF=3:LEN=4")], None, [("b", "send DB10:OFF=4:LEN=4")]),
+    "data-bit-7-cleared": (_high_bits, [("a", "fetch DB10:DW0:LEN=6")],
+                           _high_bits_cleared, [("a", "fetch DB10:DW0:LEN=6")]),
+    "flag-never-cleared": (_flag_set_and_reset, [("a", "send DB10:DW0:LEN=4:CF=0.0")],
+                           lambda st: st.memory.set_flag(0, 0, 1), [("a", "send DB10:DW0:LEN=4:CF=0.0")]),
+    "fetched-data-reversed": (None, [("b", "fetch DB10:DW0:LEN=6")], None, [("b", "fetch DB10:DW0:LEN=6")]),
+    "odd-fetch-stores-pad": (None, [("b", "fetch DB10:DW0:LEN=5")], None, [("b", "fetch DB10:DW0:LEN=5")]),
+    "responder-events-not-reported": (None, [("a", "fetch DB250:DW0:LEN=6")], None, [("a", "fetch DB250:DW0:LEN=6")]),
+    "response-failure-not-reported": (None, [("raw", header("A", "D", 10, 0, 2) + bytes(4))],
+                                      None, [("raw", header("A", "D", 10, 0, 2) + bytes(4))]),
 }
-_PARTNER = {"unknown-reatel-0905": "bare", "retry-after-link-failure": "busy"}
+_PARTNER = {"unknown-reatel-0905": "bare", "retry-after-link-failure": "busy", "response-failure-not-reported": "busy"}
 
 
 def _proof(name: str, which: str) -> Link:
@@ -649,9 +738,16 @@ def test_an_rk512_variant_not_visible_on_the_wire_sends_what_a_conforming_statio
     def wire(link):
         return [(round(w.start, 6), w.src, w.byte) for w in link.wire]
 
+    def kept(link):        # what station b reports (STATUS) and hands its application (a FETCH's data)
+        return [(e.code, getattr(e, "data", None)) for n, e in link.events
+                if n == "b" and isinstance(e, (Status, RequestResult))]
+
     variant, reference = _proof(name, "variant"), _proof(name, "reference")
     assert len(variant.wire) > 20 and wire(variant) == wire(reference)
-    if name != "unknown-reatel-0905":      # (its defect is the STATUS it reports, never on the line)
+    if name in LOCAL_ONLY:
+        # its defect is what it reports or stores, never on the line: it does show there
+        assert kept(variant) != kept(reference)
+    else:
         # the defect does change the line: the reference in the variant's own state sends otherwise
         assert wire(variant) != wire(_proof(name, "reference in the variant's state"))
     cap = link_capture(variant)

@@ -39,6 +39,12 @@ _UNASKED = ("a response answers a command of the partner that is still unanswere
 _MISSING = ("the responder answers a command within the requester's response monitoring time T_RES (the "
             "requester then gives up with 16#0A05)",
             "§2.2.3 'Response message frame'; Figs. 2-18, 2-19 'T > T_RES'; Table 8-1 16#0A05")
+#: the same, where the responder had a request of its own open meanwhile: it serves the partner
+#: while it waits for its own response (Fig. 2-17)
+_MISSING_QFD = ("a station waiting for the response to its own request still answers the partner's commands, "
+                "within the partner's T_RES (the partner then gives up with 16#0A05)",
+                "§2.2.3 'Quasi-full-duplex', 'Response message frame'; Figs. 2-17, 2-18, 2-19 'T > T_RES'; "
+                "Table 8-1 16#0A05")
 _CONT_MISSING = ("after a response with REATEL 00h to a frame of its request, the requester sends the next "
                  "continuation command within the responder's T_RES while data are left (the responder aborts "
                  "after T_RES)",
@@ -71,6 +77,7 @@ _FRAME_ID = ("byte 1 of an RK 512 frame is 00h (first frame) or FFh (continuatio
 RULE_IDS: dict[str, tuple[str, ...]] = {
     _UNASKED[0]: ("RK512.RESP.NOT-ANSWERED", "RK512.RESP.ONE-PER-COMMAND"),
     _MISSING[0]: ("RK512.RESP.ONE-PER-COMMAND", "RK512.TRES.RESPONSE-IN-TIME"),
+    _MISSING_QFD[0]: ("RK512.QFD.SERVE-WHILE-WAITING", "RK512.RESP.ONE-PER-COMMAND", "RK512.TRES.RESPONSE-IN-TIME"),
     _CONT_MISSING[0]: ("RK512.SEG.SEND-FRAMES", "RK512.SEG.FETCH-FRAMES"),
     _CONT_UNASKED[0]: ("RK512.SEG.NEXT-AFTER-RESPONSE", "RK512.SEG.ERROR-ENDS-REQUEST"),
     _CONT_RULE[0]: ("RK512.SEG.SEND-FRAMES", "RK512.SEG.FETCH-FRAMES", "RK512.SEG.CHUNK-128"),
@@ -115,10 +122,13 @@ class FrameJudging:
         t_res = 1000 * self.partner.t_res
         if e.origin == "P":
             what = K.describe(e.frame)
-            self._finding(run, due, R.FAIL, "missing", _MISSING,
+            own = self.active.job      # the seat's own request, open meanwhile: quasi-full-duplex
+            rule = _MISSING if own is None else _MISSING_QFD
+            self._finding(run, due, R.FAIL, "missing", rule,
                           f"RK 512 {what} missing: the partner's command was accepted "
-                          f"{1000 * (due - e.since):.0f} ms ago and its T_RES is {t_res:g} ms: "
-                          f"{_MISSING[0]} ({_MISSING[1]})",
+                          f"{1000 * (due - e.since):.0f} ms ago and its T_RES is {t_res:g} ms"
+                          + ("" if own is None else f", while the seat's own request {own.label} is open")
+                          + f": {rule[0]} ({rule[1]})",
                           expected=f"{what} within {t_res:g} ms", observed="nothing",
                           codes=(e.code,) if e.code else ())
         else:
