@@ -42,6 +42,9 @@ class RunResult:
     html_path: str = ""
     #: the harness's scheduling class for the run (:mod:`ptpcert.priority`), for people
     harness_scheduling: str = ""
+    #: the IUT's identity from the profile's ``[iut.identity]`` (vendor, product, version,
+    #: serial, text: those given), shown in every report
+    iut_identity: dict[str, str] = field(default_factory=dict)
     schema: str = SCHEMA
     #: the failures grouped by root cause (see :func:`root_causes`); empty while a run is
     #: under way (the views then compute them), filled in the JSON so that a re-rendered
