@@ -100,6 +100,18 @@ def _in_case(starts: list[float], ids: list[str], t: float) -> str | None:
     return ids[i] if i >= 0 else None
 
 
+def _bears_on(f, c: R.CaseResult) -> bool:
+    """Whether the IUT's finding ``f`` contradicts a pass of case ``c``: it breaks one of the
+    rules the case checks (where both name rules), or it names none and is not of the IUT's
+    start-up (which every case of an IUT restarted per case sees, and only the start-up
+    cases check)."""
+    if not c.rules:
+        return True
+    if f.rules:
+        return bool(set(f.rules) & set(c.rules))
+    return f.kind != "start-up"
+
+
 def agreement(run: R.RunResult, an: Analysis) -> Agreement:
     """Judge the agreement of ``run`` (the recorded results) with ``an`` (its capture
     analysed, both seats judged). A case checks its own rules: where a case cites rule ids,
@@ -145,7 +157,7 @@ def agreement(run: R.RunResult, an: Analysis) -> Agreement:
         elif c.verdict in IUT_PASSED:
             # the first of the IUT's deviations in the case: after it the model follows the IUT
             # again from where it stands, and what it finds then may be its consequence
-            own = [f for f in found[:1] if not c.rules or set(f.rules) & set(c.rules)]
+            own = [f for f in found[:1] if _bears_on(f, c)]
             if not own:
                 out.agree.append(c.id)
                 continue

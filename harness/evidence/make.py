@@ -29,7 +29,7 @@ def run_capture(result: R.RunResult) -> C.Capture:
 
 def pics(profile: Any) -> dict[str, Any]:
     """The profile as the suite read it, every default filled in."""
-    return {"procedure": profile.procedure.title, "identity": dict(profile.identity), **profile.to_dict()}
+    return {"procedure_title": profile.procedure.title, "identity": dict(profile.identity), **profile.to_dict()}
 
 
 def make_members(result: R.RunResult, *, view: Any, profile: Any, pixit: dict[str, Any],
