@@ -6,10 +6,13 @@ The capture of a run (``run --pcap``) marks where each case began ("case ID (ver
 the analysis (:func:`~ptpcert.analysis.results.analyze`, both seats judged, seat b switched on
 at each case as the run's transport did) places every exchange in the case it falls in. Then:
 
-* a case recorded as failed by the IUT (fail, xfail, xpass-less: :data:`IUT_FAILED`) must show
-  a rule the IUT's seat (b) broke, unless the run's failure is one the line does not carry
-  (a STATUS event the IUT reported on its standard error);
-* a case recorded as passed (:data:`IUT_PASSED`) must show none;
+* a case recorded as failed by the IUT (fail, xfail: :data:`IUT_FAILED`) must show a rule the
+  IUT's seat (b) broke, unless the run's failure is one the line does not carry (a STATUS
+  event the IUT reported on its standard error) or the run recorded its divergence and the
+  line analysis, with its own tolerances, does not confirm it (*unconfirmed*: reported, not
+  held against the bundle; a failure without its divergence stands);
+* a case recorded as passed (:data:`IUT_PASSED`) must not show the IUT's first deviation in
+  the case breaking a rule the case checks;
 * the tester's seat (a) may deviate only inside the cases (its deviations are the cases'
   deliberate stimuli), never between them;
 * every case the results say ran has its mark in the capture, with the same verdict, and the
@@ -19,9 +22,10 @@ One disagreement is known and not yet settled (issue 25, item 12): a pipe (``exe
 a station's whole block at once, and a tester's interruption (BREAK, NAK, a timeout) reaches
 the IUT after its block was complete; the run sees that, the line analysis takes the block as
 still going out at the line's pace and finds the IUT's reaction wrong. A disagreement of that
-shape - a case recorded as passed, a capture whose times were taken over a pipe, and the
-IUT's finding preceded in its exchange by a deviation of the tester - is *unsettled*: reported,
-not held against the bundle. Any other shape, and every disagreement of the marks, stands.
+shape - a case recorded as passed, a capture whose times were taken over a pipe, the IUT's
+finding preceded in its case by a deviation of the tester, and the IUT's bytes there coming
+faster than the line carries them (a block written whole) - is *unsettled*: reported, not held
+against the bundle. Any other shape, and every disagreement of the marks, stands.
 """
 
 from __future__ import annotations
@@ -71,6 +75,8 @@ class Agreement:
     tester: list[str] = field(default_factory=list)
     #: cases whose recorded failure the line does not carry (STATUS only): not judged
     status_only: list[str] = field(default_factory=list)
+    #: cases recorded as failed with their divergence that the line analysis does not confirm
+    unconfirmed: list[str] = field(default_factory=list)
 
     @property
     def standing(self) -> list[Apart]:
@@ -98,6 +104,18 @@ def case_marks(an: Analysis) -> list[tuple[float, str, str]]:
 def _in_case(starts: list[float], ids: list[str], t: float) -> str | None:
     i = bisect.bisect_right(starts, t + 1e-9) - 1
     return ids[i] if i >= 0 else None
+
+
+def _whole_block(an: Analysis, t: float) -> bool:
+    """Whether the IUT's bytes around ``t`` came faster than the line carries them (closer
+    than half a character time): a block written whole into a pipe."""
+    timing = an.capture.timing
+    if timing is None or not timing.char_time:
+        return False
+    times = [ch.t for ch in an.capture.chunks if ch.seat == "b" and ch.data]
+    i = bisect.bisect_left(times, t - 1e-7)
+    near = [b - a for a, b in zip(times[max(i - 1, 0):i + 1], times[max(i, 1):i + 2])]
+    return bool(near) and min(near) < timing.char_time / 2
 
 
 def _bears_on(f, c: R.CaseResult) -> bool:
@@ -152,6 +170,10 @@ def agreement(run: R.RunResult, an: Analysis) -> Agreement:
                 out.agree.append(c.id)
             elif c.message.startswith(_STATUS_ONLY):
                 out.status_only.append(c.id)
+            elif c.divergence is not None:
+                # the run recorded where the IUT diverged, and the line analysis, which judges
+                # only what the line shows with its own tolerances, does not confirm it
+                out.unconfirmed.append(c.id)
             else:
                 out.apart.append(Apart(c.id, c.verdict, "no rule the IUT broke"))
         elif c.verdict in IUT_PASSED:
@@ -164,7 +186,7 @@ def agreement(run: R.RunResult, an: Analysis) -> Agreement:
             f = own[0]
             tester_first = any(x.t <= f.t for x in tester.get(c.id, []))
             out.apart.append(Apart(c.id, c.verdict, f"a rule the IUT broke at {f.t:.6f} s: {f.message}",
-                                   unsettled=piped and tester_first))
+                                   unsettled=piped and tester_first and _whole_block(an, f.t)))
     return out
 
 

@@ -80,6 +80,7 @@ def pixit(args, profile, urls: list[str], result) -> dict[str, Any]:
 
 def write_evidence(result, args, profile, cases, urls: list[str], view, cmd: str = "run") -> bool:
     """Write the bundle ``args.evidence`` asks for; False (said on stderr) where it cannot be."""
+    from ptpcert.capture import CaptureError
     from ptpcert.evidence import EvidenceError, make_members, seal, tool_facts, write_bundle
 
     path = getattr(args, "evidence", None)
@@ -90,7 +91,7 @@ def write_evidence(result, args, profile, cases, urls: list[str], view, cmd: str
         members = make_members(result, view=view, profile=profile, pixit=pixit(args, profile, urls, result), tool=tool)
         write_bundle(path, seal(members, result, tool, getattr(args, "sign", None)))
         return True
-    except (OSError, EvidenceError) as exc:
+    except (OSError, EvidenceError, CaptureError) as exc:
         print(f"ptpcert {cmd}: --evidence {path}: cannot be written ({getattr(exc, 'strerror', None) or exc})",
               file=sys.stderr)
         return False

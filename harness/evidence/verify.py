@@ -185,6 +185,9 @@ def rejudge(members: dict[str, bytes], run: R.RunResult, profile: Any, pixit: di
     if ag.status_only:
         out.append(Check(NOTE, "capture.pcap", f"{len(ag.status_only)} case(s) failed on the STATUS the IUT reported, "
                                                "which the line does not carry: " + ", ".join(ag.status_only[:5])))
+    if ag.unconfirmed:
+        out.append(Check(NOTE, "capture.pcap", f"{len(ag.unconfirmed)} recorded failure(s) with their divergence that "
+                                               "the line analysis does not confirm: " + ", ".join(ag.unconfirmed[:5])))
     if ag.holds:
         out.append(Check(OK, "capture.pcap", f"re-judged offline: {len(ag.agree)} cases agree with their recorded "
                                              f"verdicts, {len(an.exchanges)} exchanges"))
