@@ -113,7 +113,7 @@ def profile_keys() -> str:
             + ", ".join(code(toml_value(n)) for n in all_names()) + ". Every procedure's `[iut]` table also has:\n\n",
             table(head, rows(COMMON)),
             "\nThe optional table `[iut.identity]` names the IUT in every report and on the certificate of an "
-            "evidence bundle ([Evidence](evidence.md)):\n\n", table(head, rows(IDENTITY))]
+            "evidence bundle ([Evidence](../evidence.md)):\n\n", table(head, rows(IDENTITY))]
     for proc in procedures():
         names = ", ".join(code(toml_value(n)) for n in proc.names)
         text += [f"\n## {proc.title}\n\n", f"`procedure = {names.replace('`', '')}`"

@@ -67,7 +67,8 @@ def render_certificate(run: R.RunResult, *, tool: dict[str, Any], digest: str) -
     rules_html = (f"<p>{esc(title)}: " + ", ".join(f"{n} {esc(k)}" for k, n in rules.items()) + "</p>"
                   if rules else "<p>no rules catalogue for this procedure</p>")
     cat = catalogue_for(run)
-    applied = sorted({r for c in run.cases for r in c.readings})
+    applied = sorted({r for c in run.cases for r in c.readings},
+                     key=lambda r: (int(r[1:]) if r[:1] == "A" and r[1:].isdigit() else 10**6, r))
     points = ", ".join(sorted(cat.readings, key=lambda a: int(a[1:]))) if cat is not None and cat.readings else "none"
     readings = (f"<p>open points of the manual: {esc(points)}</p><p>readings the cases applied: "
                 + (esc("; ".join(applied)) if applied else "none") + "</p>")
