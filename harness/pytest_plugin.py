@@ -85,7 +85,7 @@ def pytest_configure(config) -> None:
         config.addinivalue_line("markers", f"{_group_marker(g)}: ptpcert cases of the group '{g}'")
     evidence = _evidence_args(config, tolerance)
     if evidence is not None:
-        from .cli.evidence import options_problem
+        from .evidence.output import options_problem
         problem = options_problem(evidence)
         if problem:
             raise pytest.UsageError(f"ptpcert: {problem}")
@@ -129,6 +129,12 @@ def _runner(config):
     return state["runner"]
 
 
+def _now() -> str:
+    """The time now, to the second, for the bundle's results."""
+    import datetime as dt
+    return dt.datetime.now(dt.timezone.utc).astimezone().isoformat(timespec="seconds")
+
+
 def _evidence_args(config, tolerance: float):
     """The options of the evidence bundle as ``ptpcert run`` has them, or None without
     ``--ptpcert-evidence``."""
@@ -153,19 +159,17 @@ def pytest_sessionfinish(session, exitstatus) -> None:
         return
     from . import __version__
     from . import results as R
-    from .cli.common import now
-    from .cli.evidence import write_evidence
-    from .cli.run import mark_not_run
+    from .evidence.output import write_evidence
     from .scenario import vector_set_hash
 
     profile, cases = state["profile"], state["cases"]
-    result = R.RunResult(tool_version=__version__, started=state.get("started", now()), iut=state["url"],
+    result = R.RunResult(tool_version=__version__, started=state.get("started", _now()), iut=state["url"],
                          procedure=profile.procedure.title, profile=profile.to_dict(), profile_path=str(profile.path),
                          vector_set="bundled", vector_set_hash=vector_set_hash(cases), iut_identity=dict(profile.identity))
     result.cases = [state["results"][v.id] for v in cases if v.id in state["results"]]
     result.interrupted = bool(session.shouldstop) or exitstatus == pytest.ExitCode.INTERRUPTED
-    mark_not_run(result, cases, R.NOT_RUN, "not run in this pytest session")
-    result.finished = now()
+    result.fill_missing(cases, R.NOT_RUN, "not run in this pytest session")
+    result.finished = _now()
     write_evidence(result, state["evidence"], profile, cases, [state["url"]], profile.procedure.report_view(),
                    cmd="pytest")
 
@@ -196,8 +200,7 @@ class CaseItem(pytest.Item):
 
         state = self.config.stash[_STATE]
         if "started" not in state:
-            from .cli.common import now
-            state["started"] = now()
+            state["started"] = _now()
         self.result = res = _runner(self.config).run_case(self.vector)
         state["results"][self.vector.id] = res
         self.user_properties.append(("verdict", res.verdict))

@@ -168,7 +168,7 @@ def cmd_run(args) -> int:
         print(f"ptpcert run: {why}", file=sys.stderr)
         return 2
     # before the first case: a run must never end without the reports it was asked for
-    from .evidence import options_problem, write_evidence
+    from ptpcert.evidence.output import options_problem, write_evidence
     problem = report_paths_problem(args, ("junit", "json", "html", "pcap")) or options_problem(args)
     if problem:
         print(f"ptpcert run: {problem}", file=sys.stderr)
@@ -267,13 +267,7 @@ def cmd_run(args) -> int:
 
 def mark_not_run(result, cases, verdict: str, message: str) -> None:
     """Every case of ``cases`` without a result gets one: ``verdict`` with ``message``."""
-    from ptpcert import results as R
-
-    done = {c.id for c in result.cases}
-    for v in cases:
-        if v.id not in done:
-            result.cases.append(R.CaseResult(v.id, v.title, v.reference, v.rule, v.group, v.iut_role,
-                                             verdict=verdict, message=message, source=v.source))
+    result.fill_missing(cases, verdict, message)
 
 
 def vector_set_label(extra, only: bool) -> str:

@@ -51,6 +51,15 @@ class RunResult:
     #: report shows the groups the run found
     root_causes: list[dict[str, Any]] = field(default_factory=list)
 
+    def fill_missing(self, cases, verdict: str, message: str) -> None:
+        """Every case of ``cases`` (vectors: id, title, reference, rule, group, iut_role,
+        source) without a result gets one: ``verdict`` with ``message``."""
+        done = {c.id for c in self.cases}
+        for v in cases:
+            if v.id not in done:
+                self.cases.append(CaseResult(v.id, v.title, v.reference, v.rule, v.group, v.iut_role,
+                                             verdict=verdict, message=message, source=v.source))
+
     def deviations(self) -> list[dict[str, Any]]:
         """The distinct deviations: the stored groups, or those of the cases as they stand."""
         return self.root_causes or root_causes(self.cases)
