@@ -320,3 +320,23 @@ def test_a_real_time_bundle_verifies_and_every_tampering_is_named(tmp_path, caps
     # (not on the case's rule), so there an edited verdict is caught by the capture's marks,
     # not by re-judging alone (the sim: test above shows re-judging alone)
     check_tampering(path, tmp_path, capsys, skip=("verdict with its capture",))
+
+
+@pytest.mark.realtime
+def test_a_bundle_is_complete_when_the_run_is_interrupted(tmp_path, capsys):
+    import signal
+    import time
+
+    path = tmp_path / "b.zip"
+    proc = subprocess.Popen([PY, "-m", "ptpcert.cli", "run", "--iut", "exec:" + IUT, "--profile", str(REF), "-q",
+                             "--evidence", str(path)], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+    time.sleep(3.0)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 2 and path.is_file(), out[-2000:] + err
+    run = json.loads(members(path)["results.json"])
+    verdicts = {c["verdict"] for c in run["cases"]}
+    assert run["interrupted"] is True and "not-run" in verdicts and "pass" in verdicts
+    status, lines = verify(path, capsys)
+    assert status == 0, failing(lines)
