@@ -141,8 +141,15 @@ def verify(members: dict[str, bytes], *, allowed_signers: str | None = None,
     except (KeyError, ValueError, UnicodeDecodeError, ProfileError) as exc:
         out.append(Check(FAIL, "profile.toml", f"cannot be read ({' '.join(str(exc).split())[:200]})"))
         return out
+    here = None
     if installed is not None:
-        diffs = differences(tool, installed(profile, pixit))
+        try:
+            here = installed(profile, pixit)
+        except (ValueError, OSError) as exc:
+            out.append(Check(FAIL, "tool.json", "the installed ptpcert cannot make the suite of the bundled profile "
+                                                f"({' '.join(str(exc).split())[:200]})"))
+    if here is not None:
+        diffs = differences(tool, here)
         for part, what in diffs:
             out.append(Check(NOTE if part == "tool.json ptpcert" else FAIL, part, what))
         if not [d for d in diffs if d[0] != "tool.json ptpcert"]:

@@ -135,7 +135,7 @@ def _tampered(path: Path, tmp_path: Path, run: dict) -> dict[str, Path]:
     """Each part tampered with in turn."""
     first = run["cases"][0]["id"]
     failed = next((c["id"] for c in run["cases"] if c["verdict"] == "fail"), None)
-    passed = next(c["id"] for c in run["cases"] if c["verdict"] == "pass")
+    passed = next((c["id"] for c in run["cases"] if c["verdict"] == "pass"), None)
     flip = failed or passed
 
     def verdict(d):
@@ -340,3 +340,15 @@ def test_a_bundle_is_complete_when_the_run_is_interrupted(tmp_path, capsys):
     assert run["interrupted"] is True and "not-run" in verdicts and "pass" in verdicts
     status, lines = verify(path, capsys)
     assert status == 0, failing(lines)
+
+
+def test_a_bundle_of_one_case_marks_it_and_is_rejudged(tmp_path, capsys):
+    path = make_bundle(tmp_path, "sim:?mutant=break-as-data", REF, "--select", "SUITE.BREAK.DATA")
+    marks = C.read_pcap(members(path)["capture.pcap"]).marks
+    assert [m.text.split()[:3] for m in marks if m.text.startswith("case ")] == [["case", "SUITE.BREAK.DATA", "(fail)"]]
+    status, lines = verify(path, capsys)
+    assert status == 0, failing(lines)
+    run = json.loads(members(path)["results.json"])
+    bad = _tampered(path, tmp_path, run)["verdict with its capture"]
+    status, lines = verify(bad, capsys)
+    assert status == 1 and [x for x in failing(lines) if x.startswith("FAIL  results.json: verdict of SUITE.BREAK.DATA")]
