@@ -164,7 +164,7 @@ def agreement(run: R.RunResult, an: Analysis) -> Agreement:
     for c in run.cases:
         if c.id not in marks:
             continue
-        found = iut.get(c.id, [])
+        found = sorted(iut.get(c.id, []), key=lambda f: f.t)
         if c.verdict in IUT_FAILED:
             if found:
                 out.agree.append(c.id)
