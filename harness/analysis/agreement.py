@@ -119,15 +119,14 @@ def _whole_block(an: Analysis, t: float) -> bool:
 
 
 def _bears_on(f, c: R.CaseResult) -> bool:
-    """Whether the IUT's finding ``f`` contradicts a pass of case ``c``: it breaks one of the
-    rules the case checks (where both name rules), or it names none and is not of the IUT's
-    start-up (which every case of an IUT restarted per case sees, and only the start-up
-    cases check)."""
-    if not c.rules:
-        return True
-    if f.rules:
+    """Whether the IUT's finding ``f`` contradicts a pass of case ``c``: it is not of the IUT's
+    start-up (which every case of an IUT restarted per case sees, and only the start-up cases
+    check), and it breaks one of the rules the case checks where both name rules."""
+    if f.kind == "start-up":
+        return False
+    if c.rules and f.rules:
         return bool(set(f.rules) & set(c.rules))
-    return f.kind != "start-up"
+    return True
 
 
 def agreement(run: R.RunResult, an: Analysis) -> Agreement:
