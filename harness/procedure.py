@@ -23,7 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 import sys
 from importlib import resources
-from typing import Any, Callable, Mapping
+from typing import Any, Callable, Iterable, Mapping
 
 
 class ProcedureError(ValueError):
@@ -361,6 +361,16 @@ class Procedure:
     def setting_values(self, params: Any) -> dict[str, Any]:
         """The values of the catalogue's dimensions for an IUT with ``params``."""
         return {}
+
+    def setting_from_profile(self, profile: Mapping[str, Any], dimensions: Iterable[str]) -> dict[str, Any]:
+        """The values of the catalogue's ``dimensions`` from a run's profile as the results
+        keep it (:meth:`ptpcert.profile.Profile.to_dict`): by default each dimension's profile
+        key, at the top or in one of the procedure's tables."""
+        flat = dict(profile)
+        for table in self.tables:
+            if isinstance(profile.get(table), Mapping):
+                flat.update(profile[table])
+        return {k: flat[k] for k in dimensions if k in flat}
 
     # -- broken variants and fuzzing ------------------------------------------------------
     def mutants(self) -> Mapping[str, Mutant]:

@@ -10,7 +10,8 @@ non-strict and informational pass (the grade is shown in the report section), fa
 unsupported skips, an expected failure of the profile is an xfail (an unexpected pass
 fails: strict), and a harness error is a pytest *error*. ``--junitxml`` and pytest-xdist
 (``-n 4``: every worker starts its own IUT processes; use it with exec:, pty: and sim:,
-not with one serial port) work as usual.
+not with one serial port) work as usual; ``--ptpcert-shard K/N`` collects only shard K of N,
+split as ``ptpcert run --shard K/N`` splits the cases.
 
 Nothing is imported and nothing is collected unless ``--ptpcert-iut`` is given, so the
 plugin costs other pytest runs nothing.
@@ -34,6 +35,8 @@ def pytest_addoption(parser) -> None:
                 help="a directory of vectors in addition to the bundled golden vectors (repeatable)")
     g.addoption("--ptpcert-select", metavar="GLOB", action="append", default=[],
                 help="only cases whose id matches (repeatable; -k works too)")
+    g.addoption("--ptpcert-shard", metavar="K/N", default=None,
+                help="only shard K of N of the cases, as 'ptpcert run --shard K/N' splits them")
     g.addoption("--ptpcert-tolerance-ms", type=float, default=50.0,
                 help="how late a reply may be beyond its window, plus 25%% of the window (default 50)")
     g.addoption("--ptpcert-evidence", metavar="FILE.zip", default=None,
@@ -65,6 +68,13 @@ def pytest_configure(config) -> None:
     if not (math.isfinite(tolerance) and 0 <= tolerance <= 10_000):
         raise pytest.UsageError(f"ptpcert: --ptpcert-tolerance-ms {tolerance:g} is out of range (allowed: a "
                                 "number from 0 to 10000 milliseconds)")
+    shard = config.getoption("--ptpcert-shard")
+    if shard is not None:
+        from .results import parse_shard
+        try:
+            shard = parse_shard(shard)
+        except ValueError as exc:
+            raise pytest.UsageError(f"ptpcert: --ptpcert-shard {exc}") from None
     from .procedure import ProcedureError
     from .profile import ProfileError, load_profile
     from .scenario import VectorError, load_vector_sets
@@ -83,15 +93,20 @@ def pytest_configure(config) -> None:
     config.addinivalue_line("markers", "ptpcert: a ptpcert conformance case")
     for g in profile.procedure.groups:
         config.addinivalue_line("markers", f"{_group_marker(g)}: ptpcert cases of the group '{g}'")
+    selection = cases
+    if shard is not None:
+        from .suite import shard_of
+        cases = shard_of(profile, selection, *shard)[0]
     evidence = _evidence_args(config, tolerance)
     if evidence is not None:
+        evidence.shard = shard
         from .evidence.output import options_problem
         problem = options_problem(evidence)
         if problem:
             raise pytest.UsageError(f"ptpcert: {problem}")
     config.stash[_STATE] = {"url": url, "profile": profile, "cases": cases, "runner": None,
                             "evidence": evidence, "results": {}}
-    idle = _runner(config).nothing_to_test(cases)
+    idle = _runner(config).nothing_to_test(selection)
     if idle:   # every case would skip: a gate must not read that as a pass
         raise pytest.UsageError(f"ptpcert: {idle}")
 

@@ -54,3 +54,46 @@ def check_expected_failures(profile: Profile, cases: list[Vector]) -> None:
         hint = f"nearest: {', '.join(near)}" if near else "no case id is close to it"
         raise ValueError(f"{profile.path or 'profile'}: expected_failures: {xid!r} matches no case of "
                          f"{profile.procedure.title} in this run ({hint})")
+
+
+# -- shards: one run split over several machines (``ptpcert run --shard K/N``) --------------
+def forced_waits(profile: Profile, cases: list[Vector]) -> dict[str, float]:
+    """Each case's forced waits (seconds): the time the protocol itself makes the case take
+    (:attr:`ptpcert.results.CaseResult.forced_wait`), measured by running the case against
+    the reference model in virtual time (``sim:``). That depends on the profile and the case
+    alone, never on the machine or the IUT, so every shard of a run computes the same
+    figures. A case the model cannot run (unsupported for the profile) weighs 0, as it
+    takes no time against a real IUT either."""
+    from .runner import Runner, RunOptions
+    from .transport import make_factory
+
+    factory = make_factory("sim:", profile)
+    try:
+        runner = Runner(factory, profile, RunOptions(echo=profile.echo, check_status=False))
+        return {v.id: round(max(runner.run_case(v).forced_wait, 0.0), 6) for v in cases}
+    finally:
+        factory.shutdown()
+
+
+def plan_shards(weights: dict[str, float], n: int) -> list[list[str]]:
+    """``weights`` (case id: seconds) split into ``n`` shards of about equal weight: the
+    heaviest case first (ties by id) into the lightest shard so far (ties: the one with
+    fewer cases, then the first). Deterministic; every case in exactly one shard; the
+    heaviest shard is at most the heaviest case heavier than the lightest."""
+    loads = [0.0] * n
+    shards: list[list[str]] = [[] for _ in range(n)]
+    for cid in sorted(weights, key=lambda c: (-weights[c], c)):
+        i = min(range(n), key=lambda j: (loads[j], len(shards[j]), j))
+        shards[i].append(cid)
+        loads[i] += weights[cid]
+    return shards
+
+
+def shard_of(profile: Profile, cases: list[Vector], k: int, n: int,
+             weights: dict[str, float] | None = None) -> tuple[list[Vector], float, float]:
+    """Shard ``k`` of ``n`` of ``cases`` (in their order), its forced waits and those of all
+    ``cases`` (seconds). ``weights``: the :func:`forced_waits` of these cases (or more), where
+    known."""
+    weights = forced_waits(profile, cases) if weights is None else {v.id: weights[v.id] for v in cases}
+    mine = set(plan_shards(weights, n)[k - 1])
+    return [v for v in cases if v.id in mine], sum(weights[c] for c in mine), sum(weights.values())

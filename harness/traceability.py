@@ -20,6 +20,9 @@ from ptpcert.rules import Catalogue, Rule
 from ptpcert.scenario import Vector
 
 CHECKED, UNTESTABLE, MISSING = "checked", "untestable", "missing"
+#: a testable rule that applies to none of the matrix's settings (e.g. a 3964-only rule in the
+#: matrix of one 3964R IUT's profile): nothing to check there
+NOT_APPLICABLE = "not applicable"
 
 
 @dataclass(frozen=True)
@@ -54,6 +57,8 @@ class Entry:
     def status(self) -> str:
         if not self.rule.testable:
             return UNTESTABLE
+        if not self.applies and not self.citations:
+            return NOT_APPLICABLE
         return MISSING if self.missing or not self.citations else CHECKED
 
 
@@ -78,8 +83,9 @@ class Matrix:
         return not (self.count(MISSING) or self.unknown or self.cited_untestable)
 
     def summary(self) -> str:
+        na = self.count(NOT_APPLICABLE)
         return (f"{len(self.entries)} rules, {self.count(CHECKED)} checked, {self.count(UNTESTABLE)} untestable, "
-                f"{self.count(MISSING)} missing")
+                f"{self.count(MISSING)} missing" + (f", {na} not applicable here" if na else ""))
 
     def entry(self, rule_id: str) -> Entry:
         for e in self.entries:

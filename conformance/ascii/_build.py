@@ -9,6 +9,8 @@ from ptpcert.procedures.ascii.model import AsciiParams
 from ptpcert.scenario import Expected, Expr, StatusSpec, Step, Vector
 from ptpcert.status import lookup
 
+from ._rules import rules_of
+
 #: an idle line that ends a frame by any measure, and a gap that ends none (§4 of the
 #: manual's CDT rules: keep stimuli clear of the edge); the "edge" pair is closer, for the
 #: cases that check both sides of the CDT
@@ -124,10 +126,11 @@ def codes(*items: str) -> tuple[frozenset[int], ...]:
 def case(p: AsciiParams, id: str, title: str, reference: str, rule: str, group: str, role: str,
          steps: list[Step], *, status=(), optional=(), soft=(), delivered=(), echo_after=(),
          requires=("echo",), readings=(), start: str = "idle", notes: str = "", setup=None,
-         timing_sensitive: bool = False, not_buildable: str = "") -> Vector:
+         timing_sensitive: bool = False, not_buildable: str = "", cites: bool = True) -> Vector:
     """A case of the suite: ``status`` must be raised (each an alternative "A|B"),
     ``optional`` may be, ``soft`` is what the model's reading of an open point raises (its
-    absence grades the case informational)."""
+    absence grades the case informational). It cites the rules of :mod:`._rules`, unless
+    it checks nothing (``not_buildable``, or ``cites=False``: a placeholder)."""
     opt = frozenset(c for item in optional for c in codes(item)[0])
     return Vector(
         id=f"SUITE.ASCII.{id}", title=title, reference=reference, rule=rule, group=group, iut_role=role,
@@ -137,6 +140,7 @@ def case(p: AsciiParams, id: str, title: str, reference: str, rule: str, group: 
         start=start, requires=frozenset(requires), readings=tuple(readings), provenance="",
         notes=notes, source=f"conformance/ascii/{group}", binds=(), procedure="ascii", setup=setup,
         timing_sensitive=timing_sensitive, not_buildable=not_buildable,
+        rules=rules_of(id, p) if cites and not not_buildable else (),
     )
 
 
@@ -161,7 +165,7 @@ def modem_case(p: AsciiParams, id: str, title: str, reference: str, rule: str, r
     """A case about the RS 232C modem lines (RTS/CTS, automatic use of the V.24 signals):
     unsupported until a transport carries those lines."""
     return case(p, id, title, reference, rule, "flow-control", "both", [silence("CDT")],
-                requires=(MODEM_LINES,), readings=readings)
+                requires=(MODEM_LINES,), readings=readings, cites=False)
 
 
 def with_echo(v: Vector, echo_after) -> Vector:

@@ -30,7 +30,7 @@ def cases(p):
     out = []
     b = p.buffer_frames
     small = 2 if p.end_criterion != "fixed_length" else p.fixed_length
-    if b >= 4 and 3 * small <= 200:
+    if b >= 4 and 3 * small <= 300:
         frames = [frame_of(p, small + i, i) for i in range(3)] if p.end_criterion != "fixed_length" else \
             [frame_of(p, 0, 5 * i) for i in range(3)]
         out.append(_buffered(p, "BUF.FIFO", "Frames waiting in the receive buffer are read oldest first", REF,

@@ -53,6 +53,17 @@ def cases(p):
                                 "§2.2.4; Table A-7; Table 6-3 LEN 1..1024",
                                 "The longest frame, 1024 bytes, is delivered whole; sent back, it has no gap inside.",
                                 [send(big)], [big], timing_sensitive=True))
+        over = data(p, 1025, 3)
+        out.append(receive_case(
+            p, "CDT.TOO-LONG", "A burst of 1025 bytes is not delivered whole; the next frame is received",
+            "§2.2.4; Table A-7; Table 8-1 (08)16H",
+            "A frame longer than 1024 bytes is not delivered whole - split or discarded, with or without an error "
+            "(reading Q13) - and the frames after it are received.",
+            [send(over), expect(over[:1024], within="2*CDT + 1100*CHAR", optional=True,
+                                note="an IUT that splits the burst sends the first 1024 bytes back"),
+             expect(over[1024:], within="CDT + 10*CHAR", optional=True, note="... and the last byte"),
+             send(c, at=IDLE), send(b, at=IDLE)], [c, b], optional=[RX_ERRORS], soft=["16#0816"], readings=["Q13"],
+            timing_sensitive=True))
     if quiet_flow(p):
         # the frame is complete only once the CDT has passed after its last character
         out.append(receive_case(

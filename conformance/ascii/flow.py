@@ -232,14 +232,22 @@ def _receiver_side(p, xon, xoff):
         if p.end_criterion != "fixed_length":
             over = frame_of(p, 200, 50)
             steps = steps[:-1] + [send(over, at=gap, note="a frame of 200 bytes: the tester ignores the XOFF")]
+            kept = frames[:-1]
+        elif (k + 1) * size > BUFFER_BYTES:
+            # every frame has the fixed length: one frame more than the XOFF asked for
+            steps = steps + [send(frame_of(p, 0, 50), note="one frame more: the tester ignores the XOFF")]
+            kept = frames
+        else:
+            kept = None
+        if kept is not None:
             out.append(case(
                 p, "FC.OVERFLOW", "A partner that ignores XOFF overflows the buffer: its last frame is discarded", REF,
                 "If the partner keeps sending after XOFF the buffer overflows, an error is generated and the data of the "
                 "last frame is discarded; the frames before it stay intact (the code is open: reading Q17).",
                 "flow-control", "receiver",
                 steps + [xoff_step, expect(xon, within=SLOW, note="XON once there is room again")]
-                + echo_steps(p, frames[:-1]),
-                delivered=frames[:-1], status=[RX_ERRORS], soft=["16#080A"], setup=SLOW_SETUP,
+                + echo_steps(p, kept),
+                delivered=kept, status=[RX_ERRORS], soft=["16#080A"], setup=SLOW_SETUP,
                 readings=["Q15", "Q17"]))
     return out
 

@@ -1,14 +1,36 @@
-"""Line conditions (Table 8-1 (08)0DH, (08)0CH; §2.2.4): BREAK on an idle line, inside a
-frame coming in and while the IUT sends. Character errors inside frames are in the modules
-of the end criteria."""
+"""The character frame and line conditions (Table 2-8; §2.2.4 'code transparency'; Table 8-1
+(08)0DH): every code the profile leaves as data, BREAK on an idle line, inside a frame coming
+in and while the IUT sends. Character errors inside frames are in the modules of the end
+criteria."""
 
 from __future__ import annotations
 
 from ptpcert.procedures.ascii.model import send_bytes
 
-from ._build import IDLE, RX_ERRORS, brk, data, echoes, expect, frame_of, quiet_flow, receive_case, send, silence
+from ._build import (IDLE, RX_ERRORS, brk, data, echoes, expect, frame_of, quiet_flow, receive_case, send, silence,
+                     transparent)
 
 REF = "Table 8-1 (08)0DH; §2.2.4"
+
+
+def _all_codes(p):
+    """Every code that is data in this profile, in frames of its criterion: one frame (CDT),
+    one frame ending with the end character(s), or frames of the fixed length (the last one
+    filled up with letters); None where they are more frames than the buffer holds."""
+    t = transparent(p)
+    if p.end_criterion == "fixed_length":
+        n = p.fixed_length
+        t += data(p, -len(t) % n)
+        frames = [t[i:i + n] for i in range(0, len(t), n)]
+    else:
+        frames = [t + (p.end_sequence if p.end_criterion == "end_chars" else b"")]
+    if len(frames) > p.buffer_frames:
+        return None
+    return receive_case(p, "LINE.ALL-CODES", "Every code the profile leaves as data is received and sent back",
+                        "Table 2-8; §2.2.4 'code transparency'",
+                        "The character frame carries every code 00..FF (00..7F with 7 data bits); all of them but the "
+                        "end characters and XON/XOFF are data, received and sent back unchanged.",
+                        [send(b"".join(frames))], frames, group="line-conditions", timing_sensitive=True)
 
 
 def cases(p):
@@ -19,6 +41,9 @@ def cases(p):
                      "A BREAK on the receive line is reported with 16#080D; afterwards the driver receives normally.",
                      [brk(), send(f, at=IDLE)], [f], group="line-conditions", status=["16#080D"]),
     ]
+    codes = _all_codes(p)
+    if codes is not None:
+        out.append(codes)
     if part:
         out.append(receive_case(
             p, "LINE.BREAK-IN-FRAME", "BREAK inside a frame coming in: 16#080D, the frame is lost", REF,

@@ -11,6 +11,8 @@ from ptpcert.procedures.rk512.model import Rk512Params
 from ptpcert.scenario import Expected, Expr, StatusSpec, Step, Vector
 from ptpcert.status import lookup
 
+from ._rules import rules_of
+
 STX, DLE, ETX, NAK = 0x02, 0x10, 0x03, 0x15
 CHUNK = 128                       # data bytes per frame but the last (§2.2.3, Figs. 2-14, 2-16)
 SEND_DB, SEND_DX, FETCH = "A", "O", "E"   # byte 3 (Table 2-1)
@@ -256,4 +258,5 @@ def case(c: Ctx, id: str, title: str, reference: str, rule: str, group: str, rol
         params=c.p, steps=tuple(steps), expected=Expected(status(*iut), StatusSpec()),
         readings=tuple(readings), provenance=provenance, notes=notes, source=f"conformance/rk512/{group}",
         binds=(), timing_sensitive=timing_sensitive, procedure="rk512", setup=setup, extra=extra,
+        rules=rules_of(id, c.p.link),
     )

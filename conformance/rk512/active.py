@@ -190,6 +190,31 @@ def responses(c):
             [receive(two_f[0], within="STARTUP"), prime(resp(0)), receive(two_f[1]), prime(resp(reatel, first=False)),
              silence("2*ADT", note="no further frame of this request")],
             [failed(label(two), code)], iut=([code], []), provenance="[S][I]"))
+    # an error number on a response that is not the last of the request: the request ends
+    # there, with no further continuation (every position of a three-frame request)
+    fetch3 = "fetch DB10:DW0:LEN=300"
+    fetch3_h = header("E", "D", 10, 0, 150)
+    for cid, reatel, line, frames, at in (
+            ("A-06.REATEL-14-FIRST-OF-THREE", 0x14, "send DB10:DW0:LEN=300", send_frames(header("A", "D", 10, 0, 150), _data(300)), 0),
+            ("A-06.REATEL-36-FIRST-OF-THREE", 0x36, "send DB10:DW0:LEN=300", send_frames(header("A", "D", 10, 0, 150), _data(300)), 0),
+            ("A-06.REATEL-14-MIDDLE-OF-THREE", 0x14, "send DB10:DW0:LEN=300", send_frames(header("A", "D", 10, 0, 150), _data(300)), 1),
+            ("A-06.REATEL-14-FETCH-FIRST-OF-THREE", 0x14, fetch3, [fetch3_h, cont("E", "D"), cont("E", "D")], 0)):
+        code = TABLE_8_3[reatel]
+        fetch = line.startswith("fetch")
+        steps = []
+        for k in range(at):
+            steps += [receive(frames[k], within="STARTUP" if k == 0 else "TRES"),
+                      prime(resp(0, first=k == 0, data=bytes(128) if fetch else b""))]
+        steps += [receive(frames[at], within="STARTUP" if at == 0 else "TRES"),
+                  prime(resp(reatel, first=at == 0)),
+                  silence("2*ADT", note=f"no continuation: frame {at + 2} of 3 must not follow")]
+        where = "first" if at == 0 else "continuation"
+        out.append(_active(
+            c, cid, f"{'FETCH' if fetch else 'SEND'} of 300 bytes, REATEL {reatel:02X}h on its {where} response "
+                    f"(frame {at + 1} of 3): {code}, no further continuation",
+            "§2.2.3 Fig. 2-19 ('send response with error message': 'partner request finished'), Fig. 2-18; §8.4 Table 8-3",
+            "A response with an error number ends the request wherever it comes: the requester reports its event and sends none of the frames still left.",
+            "active-response", [line], steps, [failed(label(line), code)], iut=([code], []), provenance="[F][I]"))
     for cid, title, rule, line, steps, code, extra in (
             ("A-07.BYTE1-01", "Response with byte 1 = 01h: 16#0A02",
              "A response whose byte 1 is neither 00h nor FFh is a structure error (16#0A02).",

@@ -96,16 +96,6 @@ def cases(c):
             write + [send([STX]), expect([DLE]), send(bad, note="the SEND with its BCC inverted"),
                      expect([NAK], note="NAK: BCC error"), silence("2*ADT", note="no response follows")] + back,
             iut=(["16#0808"], OPT_REPEAT), needs={"db": [w], "db_bytes": 4}, provenance="[S]"))
-        out.append(case(
-            c, "L-04.REPEAT-AFTER-NAK", "The block repeated after the NAK: accepted and answered exactly once",
-            "§2.2.2 'Receive release', Fig. 2-12 (repetition within the block wait time); §2.2.3 'Response message frame'",
-            "After a NAK the sender repeats the block; the receiver takes the repetition and the RK 512 layer answers it once.",
-            "link", "receiver",
-            [send([STX]), expect([DLE]), send(bad), expect([NAK]), send([STX], note="the repetition"),
-             expect([DLE]), send(good), expect([DLE]), receive(resp(0)),
-             silence("2*ADT", note="no second response")]
-            + tester_fetch(header("E", "D", w, 0, 2), other),
-            iut=(["16#0808"], OPT_REPEAT), needs={"db": [w], "db_bytes": 4}, provenance="[S]"))
     gap_body = link.body(bad_frame, p.procedure)
     out.append(case(
         c, "L-06.GAP-OVER-CDT", "A pause longer than CDT inside a SEND block: NAK, no response, nothing written",
@@ -117,6 +107,42 @@ def cases(c):
                         note="NAK once CDT has passed"),
                  silence("2*ADT", note="no response follows")] + back,
         iut=(["16#0806"], OPT_REPEAT), needs={"db": [w], "db_bytes": 4}, provenance="[S]"))
+
+    # L-04: the block refused once (3964R: a wrong BCC; 3964: a gap over CDT), then repeated
+    if R:
+        refused = [send(bad), expect([NAK])]
+        how, code = "a wrong BCC", "16#0808"
+    else:
+        refused = [send(gap_body[:6], note="part of the block, then nothing"),
+                   expect([NAK], after="CDT", within="CDT + 2*CHAR", since="previous", note="NAK once CDT has passed")]
+        how, code = "a gap over CDT", "16#0806"
+    out.append(case(
+        c, "L-04.REPEAT-AFTER-NAK", "The block repeated after the NAK: accepted and answered exactly once",
+        "§2.2.2 'Receive release', Fig. 2-12 (repetition within the block wait time); §2.2.3 'Response message frame'",
+        f"After a NAK (here for {how}) the sender repeats the block; the receiver takes the repetition and the RK 512 layer answers it once.",
+        "link", "receiver",
+        [send([STX]), expect([DLE])] + refused + [
+            send([STX], note="the repetition"), expect([DLE]), send(link.body(bad_frame, p.procedure)), expect([DLE]),
+            receive(resp(0)), silence("2*ADT", note="no second response")]
+        + tester_fetch(header("E", "D", w, 0, 2), other),
+        iut=([code], OPT_REPEAT), needs={"db": [w], "db_bytes": 4}, provenance="[S]"))
+
+    # L-08: the IUT's response block refused at every attempt: 16#0612, no other response
+    M = p.line.transmission_attempts
+    refuse = []
+    for i in range(M):
+        refuse += [expect([STX], within="TRES" if i == 0 else "ADT", note=f"the IUT's response, attempt {i + 1}"),
+                   send([DLE]), expect(link.body(resp(0), p.procedure), within="CDT"),
+                   send([NAK], note="the tester refuses the response block")]
+    out.append(case(
+        c, "L-08.RESPONSE-REFUSED", f"The IUT's response block refused {M} times: 16#0612, no other response",
+        "§2.2.2 'Connection release', Fig. 2-10 (transmission attempts); §8.3 Table 8-1 16#0612, 16#070A",
+        "The link repeats a refused response block up to the transmission attempts; then the responder reports 16#0612 (after the link's event) and sends no other response for that command.",
+        "link", "receiver",
+        [prime(header("A", "D", w, 0, 2) + first)] + refuse
+        + [expect([NAK], note="the IUT gives up (NAK after the last attempt)"),
+           silence("2*ADT", note="no other response, no new attempt")],
+        iut=(["16#0612", "16#0706|16#070A"], ["16#0701"]), needs={"db": [w], "db_bytes": 4}, provenance="[S][I]"))
 
     big = bytes([0x10, 0x41]) * 64
     out.append(case(

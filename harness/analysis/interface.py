@@ -93,18 +93,26 @@ class Variant:
     #: what the finding an adopted alternative leaves is called ("reading" or "resolution"
     #: by default; e.g. "buffer": a local condition of the station the line does not show)
     kind: str = ""
+    #: the shift moves only the other seat's characters stamped after the seat's last
+    #: character that the run followed before the difference (the order of characters stamped
+    #: within the resolution of each other is not known; those before are in their place)
+    local: bool = False
 
 
 class ProcedureAnalyzer:
     """The procedure's part of line analysis (see the module docstring). ``params`` maps a
     seat to its station's parameters; ``apps`` a seat to its application ("echo": it sends
-    back every block it receives; "none": what it sends is its own business)."""
+    back every block it receives, and may send its own; "echo-only": it sends back every block
+    it receives and nothing else, as the suite's IUT interface does; "none": what it sends is
+    its own business)."""
 
     procedure: Any = None
     #: where the manual describes the procedure (the reference of an exchange without findings)
     reference: str = ""
     #: the longest label of an exchange (a longer one is cut short, ending "...")
     label_width = 160
+    #: how late a reaction of a station's may come in a real-time capture (``--tolerance-ms``)
+    late_abs = 0.0
 
     def __init__(self, procedure: Any, params: dict[str, Any], apps: dict[str, str] | None = None):
         self.procedure = procedure
@@ -277,6 +285,10 @@ def resolution_variants(resolution: float, revealed: str) -> list[Variant]:
                 shift=resolution),
         Variant("resolution", f"with the seat's own {revealed} up to {ms} before its characters show them "
                               "(within the timing resolution)", lead=resolution),
+        Variant("resolution", f"with the other seat's characters since the seat's last one before the difference "
+                              f"taken after the seat's bytes of its transmission stamped up to {ms} after them (the "
+                              "order of characters stamped within the timing resolution of each other is not known)",
+                shift=resolution, local=True),
     ]
 
 

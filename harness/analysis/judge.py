@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 from ptpcert import results as R
 from ptpcert.analysis.interface import EPS, OTHER, Finding
+from ptpcert.analysis.order import local_from
 from ptpcert.analysis.seat import SeatRun
 
 if TYPE_CHECKING:
@@ -220,6 +221,8 @@ class SeatJudge:
             cand = SeatRun(self, host, t_r, i_in, i_obs, variant=v, expect_startup=startup)
             cand.memo = dict(memo)
             cand.shift_until = run.failed.t
+            if v.local:
+                cand.shift_from = local_from(self.inputs, self.obs, run.failed.t)
             self.candidates.append(cand)
 
     def _decide(self, until: float, final: bool) -> bool:

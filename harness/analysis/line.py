@@ -406,8 +406,10 @@ class LineAnalysis:
             return
         self._open = None
         self.exchanges.append(e)
-        nxt = self.chunks[e.last + 1].t if e.last + 1 < len(self.chunks) else inf
-        lo = -inf if e.index == 1 else e.t0
+        # a chunk's characters end up to its time: its first one bounds the exchange (a finding
+        # on a character of a chunk read at once belongs to that chunk's exchange)
+        nxt = self._begin(e.last + 1) if e.last + 1 < len(self.chunks) else inf
+        lo = -inf if e.index == 1 else self._begin(e.first)
         cur, slack = self._cursors, self.horizon
         for j in self.judges.values():
             e.findings += _between(j.findings, lo, nxt, _time_of, cur, slack)
@@ -418,6 +420,11 @@ class LineAnalysis:
         e.case = cases[-1] if cases else ""
         if self.listener is not None and hasattr(self.listener, "exchange"):
             self.listener.exchange(self, e)
+
+    def _begin(self, k: int) -> float:
+        """When the first character of chunk ``k`` was complete (its time if it has none)."""
+        first, n = self.chunk_items[k]
+        return self.items[self.chunks[k].seat][first].t if n else self.chunks[k].t
 
     def exchange_items(self, e: Exchange) -> list[tuple[str, Item]]:
         out = []

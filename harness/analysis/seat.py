@@ -18,7 +18,9 @@ model sends when one of its own timers runs out may come a character time and a 
 the timer early and ``late_ms`` plus a quarter of the timer late (the procedure's
 :class:`~ptpcert.analysis.interface.Cause` says which). On top of that the capture's timing
 *resolution* (how much earlier than its timestamp a byte may really have been complete): a
-byte inside a window only because of the resolution is graded informational, never failed.
+byte inside a window only because of the resolution is graded informational, never failed;
+characters of both seats stamped within it of each other may be taken in either order
+(:mod:`ptpcert.analysis.order`).
 
 One class, one piece: the stepping loop, the explanations and the comparison all move the
 same position in both seats' items and the same model, and hand each other the run's state
@@ -34,6 +36,8 @@ from math import inf
 from typing import TYPE_CHECKING, Any
 
 from ptpcert import results as R
+from ptpcert.analysis import ahead
+from ptpcert.analysis import order as O
 from ptpcert.analysis.interface import (EPS, QUANTUM, WAIT, Cause, Finding, Item, Variant, at_ms, resolution_finding,
                                        show_item)
 
@@ -56,9 +60,15 @@ class SeatRun:
         self.variant = variant
         self.shift = variant.shift if variant is not None else 0.0
         self.lead = variant.lead if variant is not None else 0.0
-        #: the shift applies to the other seat's characters up to here (the difference an
-        #: alternative is to explain); later ones keep their times
-        self.shift_until = inf
+        #: the shift applies to the other seat's characters stamped after ``shift_from`` up to
+        #: ``shift_until`` (the difference an alternative is to explain); others keep their times
+        self.shift_from, self.shift_until = -inf, inf
+        #: the ordering rule's state (:mod:`ptpcert.analysis.order`)
+        self.order_floor, self.moved_for = -inf, -1
+        #: the other seat's last character that came while the model was sending: its stamp,
+        #: the bytes the model then had yet to send, and until when they may still come
+        #: (:func:`ptpcert.analysis.order.cut`)
+        self.cut_at, self.tail, self.tail_until = -inf, [], -inf
         self.expect_startup = expect_startup
         self.failed: Finding | None = None
         # provisional until the next rest point (a later difference may replace them)
@@ -136,11 +146,13 @@ class SeatRun:
         "until"."""
         inputs, obs = self.judge.inputs, self.judge.obs
         kit = self.kit
-        until_shift = self.shift_until
-        shift_ = self.shift
+        until_shift, from_shift, shift_ = self.shift_until, self.shift_from, self.shift
+        local = self.variant is not None and self.variant.local
 
         def at(it: Item) -> float:
-            return it.t + shift_ if it.t <= until_shift else it.t
+            if not from_shift < it.t <= until_shift:
+                return it.t
+            return O.taken_at(self, it) if local else it.t + shift_
 
         flags = self.flags
         while True:
@@ -200,6 +212,8 @@ class SeatRun:
                 if self.i_obs == idx:
                     self.stage, self._tied = 1, -inf
                 continue
+            if t_in == t and stage == 2 and t_dl < inf and O.timer_first(self, o, t, t_dl):
+                continue    # the seat's byte came before the input, on a timer of the model's
             if t_in == t:
                 while self.i_in < n_in and at(inputs[self.i_in]) <= t:
                     it = inputs[self.i_in]
@@ -213,6 +227,8 @@ class SeatRun:
                         if r is not None:
                             self.i_in -= 1      # taken in once the byte is settled
                             return r
+                    if st.transmitting:
+                        O.cut(self, it)         # the input came while the model was sending
                     st.line_event(t if t > st.now else st.now, it.kind, it.value)
                     r = self._collect(t)
                     if r is not None:
@@ -283,8 +299,11 @@ class SeatRun:
             self.flags[o.chunk] = self._at_rest()
 
     def _nothing_due(self, t: float) -> bool:
-        obs = self.judge.obs
-        return self.i_obs >= len(obs) or obs[self.i_obs].start > t + EPS
+        obs = self.judge.obs    # no byte of the seat may have begun by t (resolution: order.py)
+        if self.i_obs >= len(obs):
+            return True
+        start = obs[self.i_obs].start
+        return start > t + EPS and start - self.res > self.cut_at + EPS
 
     def rested(self, t: float) -> bool:
         """Is the run at rest at ``t``: no byte of the seat being settled or held, the model at
@@ -306,6 +325,8 @@ class SeatRun:
                                       f"is {show_item(self.kit, o)}; {rule} ({ref})",
                                       expected=rule, observed=show_item(self.kit, o), codes=(code,) if code else ())
                 return None
+        elif O.tail_explains(self, o):
+            return True
         else:
             e = kit.explain(self, o, idx)
             if e is WAIT:
@@ -451,7 +472,7 @@ class SeatRun:
 
     def _unexpected(self, o: Item, t: float) -> None:
         """The seat sent ``o`` and the model does not send it: say what the model does next."""
-        later = self._peek(o)
+        later = ahead.peek(self, o)
         host = self._snapshot[0] if self._snapshot is not None else self.host
         cause = self.kit.unexpected(self, host, o, later)
         shown = show_item(self.kit, o)
@@ -466,26 +487,3 @@ class SeatRun:
         self.failed = Finding(self.judge.seat, o.t, R.FAIL, kind, cause.rule, cause.reference, msg,
                               expected=expected, observed=f"{shown} at {at_ms(o.t)}",
                               codes=(cause.code,) if cause.code else (), rules=cause.rules)
-
-    def _peek(self, o: Item) -> tuple[float, int, Cause] | None:
-        """What the model (as it was when the seat's byte began) sends next without further
-        input: a copy of it runs ahead."""
-        horizon = o.t + self.judge.analysis.horizon
-        probe = copy.copy(self)
-        if self._snapshot is not None:
-            host, probe._log_pos, probe._log_k = self._snapshot
-            probe.host = copy.deepcopy(host)
-        else:
-            probe.host = copy.deepcopy(self.host)
-        probe.st = st = probe.host.station
-        for _ in range(10_000):
-            out = st.pop_output(st.now)
-            if out:
-                s, b = out[0]
-                return (s + self.char, b, probe._cause_of(s, b)[0])
-            d = st.next_deadline()
-            if d is None or d > horizon:
-                return None
-            st.handle_timer(d)
-            probe.host.drain(d)
-        return None

@@ -32,8 +32,9 @@ from ptpcert.capture.pcap import (EPOCH, EV_CAPTURE_COMPLETE, EV_CAPTURE_DATA_LO
                                   EV_SERIAL_BREAK, EV_SERIAL_OVERFLOW, EV_STATUS_CHANGE, LINKTYPE_RTAC_SERIAL,
                                   MARK_TAG, MAX_PAYLOAD, PCAP_MAGIC_NS, PCAP_MAGIC_US, PCAPNG_MAGIC, RTAC_HEADER,
                                   SNAPLEN, START_TAG, PcapWriter, pcap_bytes, read_pcap, write_pcap)
-from ptpcert.capture.results_format import (CAPTURE_GROUP, CASE_GAP, PROCEDURE_NOTE, RUN_SEATS, TRANSCRIPT_DIR,
-                                            from_results, from_transcript, to_results, to_transcript)
+from ptpcert.capture.results_format import (CAPTURE_GROUP, CASE_GAP, PARAMS_TAG, PROCEDURE_NOTE, RUN_SEATS,
+                                            TRANSCRIPT_DIR, from_results, from_transcript, params_text, to_results,
+                                            to_transcript)
 from ptpcert.capture.timing import TRANSPORTS, Timing, run_timing
 from ptpcert.model.line import LineSettings
 
@@ -44,8 +45,8 @@ __all__ = [
     # capture JSON
     "JSON_FORMAT", "LINE_DEFAULTS", "chunk_to_dict", "from_dict", "line_from_dict", "line_to_dict", "to_dict",
     # transcripts and results objects
-    "CAPTURE_GROUP", "CASE_GAP", "PROCEDURE_NOTE", "RUN_SEATS", "TRANSCRIPT_DIR", "from_results", "from_transcript",
-    "to_results", "to_transcript",
+    "CAPTURE_GROUP", "CASE_GAP", "PARAMS_TAG", "PROCEDURE_NOTE", "RUN_SEATS", "TRANSCRIPT_DIR", "from_results",
+    "from_transcript", "params_text", "to_results", "to_transcript",
     # hex log
     "HEXLOG_MAGIC", "HEXLOG_VERSION", "HexLogWriter", "hexlog_text", "parse_line", "read_hexlog", "write_hexlog",
     # pcap

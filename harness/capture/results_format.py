@@ -10,6 +10,7 @@ JSON").
 from __future__ import annotations
 
 import datetime as _dt
+import json
 from pathlib import Path
 from typing import Any, Iterable
 
@@ -27,6 +28,10 @@ CAPTURE_GROUP = "capture"
 #: The note of a capture of a run that names the run's procedure (its title: "RK 512"),
 #: so that ``analyze`` can tell a capture judged under another procedure's profile.
 PROCEDURE_NOTE = "procedure: "
+#: The mark (a whole run: where a case's parameters differ from the previous case's) or note
+#: (one case) that carries a case's parameters as compact JSON, so that a reader of the
+#: capture (the Wireshark dissector) knows the procedure's settings without the profile.
+PARAMS_TAG = "parameters "
 #: Whole-run captures from a results object: the gap between cases whose clocks overlap.
 CASE_GAP = 1.0
 
@@ -160,6 +165,12 @@ def to_transcript(cap: Capture) -> list[dict[str, Any]]:
     return res
 
 
+def params_text(params: dict[str, Any]) -> str:
+    """The text of the mark or note that carries a case's parameters (``PARAMS_TAG``, then
+    the parameters as compact JSON, keys sorted)."""
+    return PARAMS_TAG + json.dumps(params, sort_keys=True, separators=(",", ":"))
+
+
 def _line_of_params(params: dict[str, Any]) -> LineSettings | None:
     if not params or "data_bits" not in params:
         return None
@@ -209,6 +220,8 @@ def from_results(run: Any, case: str | None = None, source: str = "") -> Capture
             notes.append(f"IUT: {run.iut}")
         if run.procedure:
             notes.append(PROCEDURE_NOTE + run.procedure)
+        if c.params:
+            notes.append(params_text(c.params))
         notes += [n for n in c.notes if "\n" not in n]
         timing = _run_timing(run.iut, line)
         if c.group == CAPTURE_GROUP:
@@ -230,6 +243,7 @@ def from_results(run: Any, case: str | None = None, source: str = "") -> Capture
         notes.append("the cases ran with different line settings; none is given")
     first_origin = next((c.origin for c in cases if c.transcript), 0.0)
     prev_end = -CASE_GAP
+    said = None
     for c in cases:
         if not c.transcript:
             continue
@@ -237,6 +251,9 @@ def from_results(run: Any, case: str | None = None, source: str = "") -> Capture
         cs, ms, end = _transcript_items(c.transcript, offset, source)
         chunks += cs
         marks.append(Mark(offset, f"case {c.id} ({c.verdict})" + (f" {c.reference}" if c.reference else "")))
+        if c.params and c.params != said:
+            marks.append(Mark(offset, params_text(c.params)))
+            said = c.params
         marks += ms
         prev_end = max([offset] + [x.t for x in cs] + [m.t for m in ms] + ([end] if end is not None else []))
     return Capture(chunks, dict(RUN_SEATS), line, start, prev_end if chunks or marks else None, notes, marks,

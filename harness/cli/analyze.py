@@ -327,6 +327,9 @@ def cmd_analyze(args) -> int:
               f"judging seat{'s' if len(judged) > 1 else ''} {' and '.join(judged)} ({why}); "
               f"timing resolution {resolution * 1000:.3f} ms"
               + (f"; seat b restarts at each case ({url})" if restart else ""), flush=True)
+    if judged == "b" and args.judge is None and setup.kit.apps["b"] == "echo":
+        # the run's IUT had the suite's echo interface: it sends back what it gets, nothing else
+        setup.kit.apps["b"] = "echo-only"
     an = A.analyze(cap, setup.kit, judge=judged, resolution=resolution, restart_at_cases=restart,
                    source=str(args.capture), listener=listener)
     notes.append(f"timing resolution {resolution * 1000:.3f} ms" + (
@@ -381,8 +384,11 @@ def cmd_monitor(args) -> int:
     listener = ConsoleListener(seats, quiet=args.quiet, every=True)
     line = A.LineAnalysis(setup.kit, judge=judged, resolution=resolution, listener=listener)
     timing = C.Timing("monitor", resolution, line_b.char_time if line_b.baud_rate else None)
+    # the procedure and seat b's parameters, for a reader of the capture (the Wireshark dissector)
     meta = C.Capture([], seats, line_b, started, None,
-                     [f"ptpcert monitor, timing resolution {resolution * 1000:.3f} ms"], timing=timing)
+                     [f"ptpcert monitor, timing resolution {resolution * 1000:.3f} ms",
+                      C.PROCEDURE_NOTE + setup.proc.title,
+                      C.params_text(setup.proc.params_table(setup.params["b"]))], timing=timing)
     try:
         mon = Monitor(args.a, args.b, line_b, parmrk=args.parmrk)
     except MonitorError as exc:
@@ -399,7 +405,7 @@ def cmd_monitor(args) -> int:
     old_int = signal.signal(signal.SIGINT, stop)
     try:
         with open(path, "wb" if fmt == "pcap" else "w", **({} if fmt == "pcap" else {"encoding": "utf-8"})) as fp:
-            writer = C.PcapWriter(fp, started, timing) if fmt == "pcap" else C.HexLogWriter(fp, meta)
+            writer = C.PcapWriter(fp, started, timing, meta) if fmt == "pcap" else C.HexLogWriter(fp, meta)
             with priority.harness(args.priority, this_thread=False) as how:
                 end = mon.run(line, writer, stop=lambda: bool(interrupted), duration=args.duration,
                               resolution=resolution)

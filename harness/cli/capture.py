@@ -1,4 +1,5 @@
-"""The ``capture`` command: convert a recorded link between ptpcert's capture formats."""
+"""The ``capture`` command: convert a recorded link between ptpcert's capture formats; where
+the Wireshark dissector is, and installing it."""
 
 from __future__ import annotations
 
@@ -9,9 +10,18 @@ import sys
 def add_commands(sub) -> None:
     from ptpcert.capture import FORMATS
 
-    cap = sub.add_parser("capture", help="convert captures of a serial link (transcript, hex log, pcap)",
+    cap = sub.add_parser("capture", help="convert captures of a serial link (transcript, hex log, pcap); "
+                                         "the Wireshark dissector",
                          description="Work with captures of a serial link: ptpcert's transcripts "
-                                     "(results.json), capture JSON, the hex log and pcap for Wireshark.")
+                                     "(results.json), capture JSON, the hex log and pcap for Wireshark. "
+                                     "--wireshark-plugin prints where ptpcert's Wireshark dissector (Lua) is; "
+                                     "--wireshark-plugin install copies it into the personal Lua plugin "
+                                     "folder (or --plugin-dir). Exit status: 0 done, 2 on any error.")
+    cap.add_argument("--wireshark-plugin", nargs="?", const="where", metavar="install",
+                     help="print the path of the Wireshark dissector (ptpcert.lua); with 'install': copy it "
+                          "into Wireshark's personal Lua plugin folder (~/.local/lib/wireshark/plugins)")
+    cap.add_argument("--plugin-dir", metavar="DIR",
+                     help="with --wireshark-plugin install: this folder instead of the personal plugin folder")
     csub = cap.add_subparsers(dest="capture_command", metavar="SUBCOMMAND")
     conv = csub.add_parser(
         "convert", help="convert a capture from one format to another",
@@ -27,13 +37,45 @@ def add_commands(sub) -> None:
     conv.add_argument("--case", metavar="ID",
                       help="from a results object: this case only (default: the whole run on one timeline)")
     conv.set_defaults(func=cmd_convert)
-    cap.set_defaults(func=lambda args: _no_subcommand(cap))
+    cap.set_defaults(func=lambda args: _no_subcommand(cap, args))
 
 
-def _no_subcommand(parser) -> int:
+def _no_subcommand(parser, args) -> int:
+    if args.wireshark_plugin is not None or args.plugin_dir is not None:
+        return cmd_wireshark_plugin(args)
     parser.print_usage(sys.stderr)
-    print("ptpcert capture: give a subcommand (convert)", file=sys.stderr)
+    print("ptpcert capture: give a subcommand (convert) or --wireshark-plugin", file=sys.stderr)
     return 2
+
+
+def cmd_wireshark_plugin(args) -> int:
+    from ptpcert.capture import CaptureError
+    from ptpcert.capture.wireshark_plugin import install_plugin, personal_plugin_dir, plugin_path
+
+    how = args.wireshark_plugin
+    if how not in ("where", "install"):
+        what = "--plugin-dir needs --wireshark-plugin install" if how is None else (
+            f"--wireshark-plugin {how}: give nothing (print where the dissector is) or 'install'")
+        print(f"ptpcert capture: {what}", file=sys.stderr)
+        return 2
+    if how == "where":
+        if args.plugin_dir is not None:
+            print("ptpcert capture: --plugin-dir needs --wireshark-plugin install", file=sys.stderr)
+            return 2
+        print(plugin_path())
+        return 0
+    try:
+        target, how = install_plugin(args.plugin_dir)
+    except CaptureError as exc:
+        print(f"ptpcert capture: {exc}", file=sys.stderr)
+        return 2
+    said = {"installed": "installed", "replaced": "installed, replacing another copy",
+            "unchanged": "already installed, unchanged"}[how]
+    print(f"{target}: {said}; Wireshark loads it at its next start (Help > About Wireshark > Plugins lists it)")
+    if args.plugin_dir is not None and os.path.realpath(args.plugin_dir) != os.path.realpath(personal_plugin_dir()):
+        print(f"not Wireshark's personal plugin folder ({personal_plugin_dir()}): load it with "
+              f"-X lua_script:{target}")
+    return 0
 
 
 def cmd_convert(args) -> int:

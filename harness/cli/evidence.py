@@ -44,6 +44,9 @@ def installed_facts(profile, pixit_: dict[str, Any]) -> dict[str, Any]:
     vectors = load_vector_sets([], only=False)
     cases = load_suite(profile, vectors, include_suite=not pixit_.get("vectors_only"),
                        select=pixit_.get("select") or None)
+    if pixit_.get("shard"):   # the run was one shard of its selection
+        from ptpcert.suite import shard_of
+        cases = shard_of(profile, cases, *pixit_["shard"])[0]
     return tool_facts(cases)
 
 

@@ -26,6 +26,16 @@ def add_commands(sub) -> None:
     r.set_defaults(func=cmd_rules)
 
 
+class _Virtual:
+    """What a procedure's ``unsupported_reason`` asks of the transport: the matrix counts
+    the cases as the simulator would run them (virtual time, every capability)."""
+
+    virtual = True
+
+
+_VIRTUAL = _Virtual()
+
+
 def matrices(procedures, profile=None):
     """The matrix of each procedure: for each of its settings (or the profile's), the suite
     generated for it plus the golden vectors that run under it."""
@@ -48,7 +58,11 @@ def matrices(procedures, profile=None):
         suites = []
         for setting, prof in settings:
             cases = [v for v in vectors if v.procedure == proc.id and runs_under(v, prof.params)]
-            suites.append((setting, cases + conformance.cases(prof)))
+            cases += conformance.cases(prof)
+            # a case counts where it runs: not one the IUT's profile makes unsupported (a
+            # role it does not play, an area it does not have)
+            cases = [v for v in cases if proc.unsupported_reason(v, prof, frozenset(), _VIRTUAL) is None]
+            suites.append((setting, cases))
         out.append(build(catalogue, suites))
     return out
 

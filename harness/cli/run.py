@@ -34,6 +34,17 @@ def JOBS(text: str) -> int:
         raise argparse.ArgumentTypeError(str(exc)) from None
 
 
+def SHARD(text: str) -> tuple[int, int]:
+    """``--shard K/N``: shard K of N."""
+    import argparse
+
+    from ptpcert.results import parse_shard
+    try:
+        return parse_shard(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
 def add_commands(sub) -> None:
     """The ``run`` command."""
     from ptpcert.registry import procedures
@@ -53,6 +64,10 @@ def add_commands(sub) -> None:
                         "or over a pool; auto: the number of cores (default 1). A device or port server "
                         "is one line: it runs one case at a time")
     r.add_argument("--select", action="append", metavar="GLOB", help="only cases whose id matches (repeatable)")
+    r.add_argument("--shard", type=SHARD, default=None, metavar="K/N",
+                   help="run only shard K of N of the selected cases, for N CI jobs (GitLab parallel:, a GitHub "
+                        "matrix); the split depends only on the profile and the selection, balanced by each "
+                        "case's forced waits. 'ptpcert report --merge' joins the N results into one report")
     r.add_argument("--junit", metavar="PATH", help="write a JUnit XML file")
     r.add_argument("--json", metavar="PATH", help="write the results object as JSON")
     r.add_argument("--html", metavar="PATH", help="write the HTML report")
@@ -167,6 +182,13 @@ def cmd_run(args) -> int:
                    f"is for {profile.procedure.title}, the profile's procedure")
         print(f"ptpcert run: {why}", file=sys.stderr)
         return 2
+    selection, shard = cases, getattr(args, "shard", None)
+    if shard is not None:
+        from ptpcert.suite import shard_of
+        k, n = shard
+        cases, mine, total = shard_of(profile, selection, k, n)
+        print(f"shard {k}/{n}: {len(cases)} of {len(selection)} cases, forced waits {mine:.1f} s of "
+              f"{total:.1f} s", flush=True)
     # before the first case: a run must never end without the reports it was asked for
     from ptpcert.evidence.output import options_problem, write_evidence
     problem = report_paths_problem(args, ("junit", "json", "html", "pcap")) or options_problem(args)
@@ -178,8 +200,9 @@ def cmd_run(args) -> int:
     jobs = getattr(args, "jobs", 1)
     result = R.RunResult(tool_version=__version__, started=now(), iut=" | ".join(urls), procedure=profile.procedure.title,
                          profile=profile.to_dict(), profile_path=str(args.profile),
-                         vector_set=vector_set_label(args.vectors, args.vectors_only), vector_set_hash=vector_set_hash(cases),
-                         html_path=args.html or "", iut_identity=dict(profile.identity))
+                         vector_set=vector_set_label(args.vectors, args.vectors_only), vector_set_hash=vector_set_hash(selection),
+                         html_path=args.html or "", iut_identity=dict(profile.identity),
+                         shard="{}/{}".format(*shard) if shard else "")
 
     def progress(i, n, c, running=None):
         if not args.quiet:
@@ -207,7 +230,8 @@ def cmd_run(args) -> int:
             opts = RunOptions(late_ms=args.tolerance_ms, startup_timeout=args.startup_timeout,
                               echo=profile.echo, check_status=profile.status_from_stderr,
                               edge_attempts=args.edge_attempts)
-            idle = Runner(factory, profile, opts).nothing_to_test(cases)
+            # a shard judges its part of the selection: the selection as a whole must be testable
+            idle = Runner(factory, profile, opts).nothing_to_test(selection)
             if idle:   # a run that judges nothing is no pass: bad usage, nothing run
                 interrupts.disarm()
                 for _, f in pool:

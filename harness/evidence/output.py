@@ -49,6 +49,7 @@ def pixit(args, profile, urls: list[str], result) -> dict[str, Any]:
         "vectors_only": bool(getattr(args, "vectors_only", False)), "jobs": getattr(args, "jobs", 1),
         "device_pool": urls if len(urls) > 1 else [], "priority": getattr(args, "priority", "normal"),
         "harness_scheduling": result.harness_scheduling,
+        "shard": list(getattr(args, "shard", None) or []),
     }
 
 

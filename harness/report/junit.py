@@ -76,6 +76,10 @@ def write_junit(run: R.RunResult, path: str | Path, view: ReportView | None = No
              "interrupted": str(run.interrupted).lower()}
     for k, v in run.iut_identity.items():
         props[f"identity.{k}"] = v
+    if run.shard:
+        props["shard"] = run.shard
+    if run.merged_from:
+        props["merged_from"] = " ".join(run.merged_from)
     for k, v in (view or NEUTRAL).settings(run.profile):
         props[f"profile.{k}"] = v
     for i, g in enumerate(devs, 1):
@@ -85,21 +89,25 @@ def write_junit(run: R.RunResult, path: str | Path, view: ReportView | None = No
     suite = TestSuite(name, cases, timestamp=run.started,
                       properties=props, stdout=dev or None)
     xml = to_xml_report_string([suite], prettyprint=True)
-    if any(c.device for c in run.cases):
-        xml = _with_devices(xml, [c.device for c in run.cases])
+    per_case = [{"rules": " ".join(c.rules), "device": c.device} for c in run.cases]
+    if any(v for d in per_case for v in d.values()):
+        xml = _with_properties(xml, per_case)
     R.write_atomic(path, xml)
 
 
-def _with_devices(xml: str, devices: list[str]) -> str:
-    """Each test case of a pool's run gets the property ``device``: the IUT that ran it
-    (the cases are in the results' order; the interrupted marker, if any, comes after)."""
+def _with_properties(xml: str, per_case: list[dict[str, str]]) -> str:
+    """Each test case gets its properties: ``rules``, the ids of the manual's rules it checks
+    (space-separated), and in a pool's run ``device``, the IUT that ran it (the cases are in
+    the results' order; the interrupted marker, if any, comes after). Empty ones are left out."""
     import xml.etree.ElementTree as ET
 
     root = ET.fromstring(xml)
-    for tc, device in zip(root.iter("testcase"), devices):
-        if device:
+    for tc, values in zip(root.iter("testcase"), per_case):
+        if any(values.values()):
             props = ET.Element("properties")
-            ET.SubElement(props, "property", name="device", value=device)
+            for name, value in values.items():
+                if value:
+                    ET.SubElement(props, "property", name=name, value=value)
             tc.insert(0, props)
     ET.indent(root, space="\t")
     return "<?xml version=\"1.0\" ?>\n" + ET.tostring(root, encoding="unicode") + "\n"

@@ -140,6 +140,10 @@ def summary(run: R.RunResult) -> str:
         lines.insert(1, f"IUT: {identity_text(run)}")
     if run.harness_scheduling:
         lines.append(f"harness scheduling: {run.harness_scheduling}")
+    if run.shard:
+        lines.append(f"shard {run.shard} of the selection")
+    if run.merged_from:
+        lines.append(f"merged from {', '.join(run.merged_from)}")
     lines += ["", "verdict        cases"]
     for v in R.VERDICTS:
         if counts.get(v):

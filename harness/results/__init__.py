@@ -10,7 +10,8 @@ The package along its jobs:
 * :mod:`~ptpcert.results.failures`: the frame a divergence falls in, failure signatures
   and their grouping by root cause;
 * :mod:`~ptpcert.results.transcripts`: transcripts packed into runs of bytes and read back;
-* :mod:`~ptpcert.results.files`: report files written whole or not at all.
+* :mod:`~ptpcert.results.files`: report files written whole or not at all;
+* :mod:`~ptpcert.results.merge`: the results of shards of one run joined into one.
 
 This module is their face: ``from ptpcert import results as R`` gives every name below.
 """
@@ -44,6 +45,7 @@ from ptpcert.results.failures import (
     root_causes,
 )
 from ptpcert.results.files import directory_problem, report_path_problem, write_atomic
+from ptpcert.results.merge import merge_runs, parse_shard
 from ptpcert.results.reading import SCHEMA, SCHEMA_V1, SCHEMAS, ResultsError
 from ptpcert.results.run import RunResult
 from ptpcert.results.transcripts import (
@@ -61,7 +63,8 @@ __all__ = [
     "BYTE_KINDS", "ERROR", "FAIL", "FAILING", "FRAME_FIELDS", "GRADE_ORDER", "INFORMATIONAL", "NON_STRICT",
     "NOT_RUN", "PASS", "RUN_KINDS", "SCHEMA", "SCHEMAS", "SCHEMA_V1", "UNSUPPORTED", "VERDICTS", "XFAIL",
     "XPASS", "CaseResult", "Divergence", "ResultsError", "RunResult", "describe_group", "describe_signature",
-    "divergence_frame", "divergence_frame_text", "dropped_note", "failure_signature", "pack_transcript",
+    "divergence_frame", "divergence_frame_text", "dropped_note", "failure_signature", "merge_runs",
+    "pack_transcript", "parse_shard",
     "directory_problem", "report_path_problem", "root_causes", "run_bytes", "unpack_transcript", "wire_events", "wire_runs",
     "worse_grade", "write_atomic",
 ]

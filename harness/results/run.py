@@ -45,6 +45,11 @@ class RunResult:
     #: the IUT's identity from the profile's ``[iut.identity]`` (vendor, product, version,
     #: serial, text: those given), shown in every report
     iut_identity: dict[str, str] = field(default_factory=dict)
+    #: ``ptpcert run --shard K/N``: "K/N" where the run is one shard of its selection (its
+    #: vector set hash is then the whole selection's, the same in every shard)
+    shard: str = ""
+    #: ``ptpcert report --merge``: the shards ("K/N") or files the results were merged from
+    merged_from: list[str] = field(default_factory=list)
     schema: str = SCHEMA
     #: the failures grouped by root cause (see :func:`root_causes`); empty while a run is
     #: under way (the views then compute them), filled in the JSON so that a re-rendered

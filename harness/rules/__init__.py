@@ -34,7 +34,8 @@ PROVENANCE = ("S", "F", "I", "O")
 #: default); none (no effect on the line)
 READING_GRADES = ("pass", "non-strict", "informational", "fail", "profile", "none")
 _ID = re.compile(r"^[0-9A-Z]+(\.[0-9A-Z][0-9A-Z\-]*)+$")
-_READING = re.compile(r"^A[1-9][0-9]*$")
+#: an open point is named as its procedure names it (3964: A1.., the ASCII driver: Q1.. and d_hold ...)
+_READING = re.compile(r"^[A-Za-z][A-Za-z0-9_\-]*$")
 
 
 class CatalogueError(ValueError):
@@ -61,9 +62,17 @@ class Rule:
 
     def applies_to(self, setting: dict[str, Any]) -> bool:
         """Whether the rule applies to an IUT with these settings (procedure, priority,
-        data_bits; a dimension missing from ``setting`` matches)."""
+        data_bits; a dimension missing from ``setting`` matches). Where the setting holds
+        several values of a dimension (the roles an IUT plays), the rule applies when the
+        IUT has every value the rule lists (a rule of both roles needs both)."""
         for dim, values in self.applies.items():
-            if dim in setting and setting[dim] not in values:
+            if dim not in setting:
+                continue
+            have = setting[dim]
+            if isinstance(have, (list, tuple, set, frozenset)):
+                if not set(values) <= set(have):
+                    return False
+            elif have not in values:
                 return False
         return True
 
@@ -201,7 +210,7 @@ def parse(raw: dict[str, Any], source: str = "<catalogue>") -> Catalogue:
     for rid, x in readings_raw.items():
         where = f"{source}: reading {rid}"
         if not _READING.match(rid):
-            raise CatalogueError(f"{where}: open points are named A1, A2, ...")
+            raise CatalogueError(f"{where}: open points are named by a letter and letters, digits, _ or - (A1, Q3, d_hold)")
         for key in ("question", "model", "grade"):
             if not isinstance(x.get(key), str) or not x[key]:
                 raise CatalogueError(f"{where}: {key} missing")

@@ -349,6 +349,35 @@ def test_a_whole_run_is_one_capture_with_its_cases_one_after_the_other(sim_resul
     assert _wire(C.read_pcap(C.pcap_bytes(cap))) == _wire(cap)
 
 
+
+def test_a_run_capture_carries_its_cases_parameters(sim_results, tmp_path):
+    """A mark "parameters {JSON}" at a case whose parameters differ from the previous case's
+    (the first case's always); read alone, a case's parameters are a note. The analysis, which
+    restarts at "case " marks, is not misled by them."""
+    run = json.loads(sim_results.read_text())
+    with_tr = [c for c in run["cases"] if c["transcript"]]
+    with_tr[1]["params"] = {**with_tr[1]["params"], "procedure": "3964"}   # one case with other settings
+    changed = tmp_path / "results.json"
+    changed.write_text(json.dumps(run))
+    cap = C.load(changed)
+    said, expected = None, []
+    for c in with_tr:
+        if c["params"] != said:
+            expected.append(c["params"])
+            said = c["params"]
+    marks = [m for m in cap.marks if m.text.startswith(C.PARAMS_TAG)]
+    assert [json.loads(m.text[len(C.PARAMS_TAG):]) for m in marks] == expected
+    assert len(expected) == 3       # the first case, the one changed, the one after it
+    starts = {m.t for m in cap.marks if m.text.startswith("case ")}
+    assert {m.t for m in marks} <= starts and not any(m.text.lower().startswith("case ") for m in marks)
+    one = C.load(changed, case=with_tr[-1]["id"])
+    assert C.params_text(with_tr[-1]["params"]) in one.notes
+    # pcap carries the marks and the note
+    assert [m.text for m in C.read_pcap(C.pcap_bytes(cap)).marks if m.text.startswith(C.PARAMS_TAG)] == \
+        [m.text for m in marks]
+    assert C.params_text(with_tr[-1]["params"]) in C.read_pcap(C.pcap_bytes(one)).notes
+
+
 # ------------------------------------------------------------------ the hex log reader
 
 

@@ -81,10 +81,23 @@ def test_wheel_has_every_data_file_of_the_checkout(installed):
             rel = f.relative_to(ROOT / folder).as_posix()
             assert f"{prefix}/{rel}" in names, f"{folder}/{rel} is missing from the wheel"
     assert "ptpcert/status_catalogue.toml" in names
+    assert "ptpcert/capture/wireshark/ptpcert.lua" in names, "the Wireshark dissector is missing from the wheel"
     for f in (ROOT / "harness" / "rules").glob("*.toml"):
         assert f"ptpcert/rules/{f.name}" in names, f"the rules catalogue {f.name} is missing from the wheel"
     tops = {n.split("/")[0] for n in names if not n.split("/")[0].endswith((".dist-info", ".data"))}
     assert tops == {"ptpcert"}, f"the wheel installs top-level names {sorted(tops)}"
+
+
+@pytest.mark.realtime
+def test_installed_ptpcert_shows_and_installs_its_wireshark_dissector(installed, tmp_path):
+    p = _run(installed, "capture", "--wireshark-plugin")
+    assert p.returncode == 0, p.stderr
+    where = Path(p.stdout.strip())
+    assert where.is_file() and where.is_relative_to(_site_packages(installed["venv"]))
+    assert where.read_bytes() == (ROOT / "harness" / "capture" / "wireshark" / "ptpcert.lua").read_bytes()
+    p = _run(installed, "capture", "--wireshark-plugin", "install", "--plugin-dir", str(tmp_path / "plugins"))
+    assert p.returncode == 0, p.stderr
+    assert (tmp_path / "plugins" / "ptpcert.lua").read_bytes() == where.read_bytes()
 
 
 @pytest.mark.realtime

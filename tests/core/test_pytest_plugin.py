@@ -71,6 +71,23 @@ def test_bad_usage_is_a_usage_error(tmp_path):
     assert p.returncode == 4 and "missing.toml" in p.stderr
 
 
+def test_the_shards_of_the_plugin_are_those_of_ptpcert_run(tmp_path):
+    """--ptpcert-shard K/N collects the cases `ptpcert run --shard K/N` runs: each case in
+    one shard, with its outcome; a bad value is a usage error naming the option."""
+    seen: dict[str, str] = {}
+    for k in (1, 2):
+        p, outcomes = plugin_run(tmp_path, "sim:", "--ptpcert-shard", f"{k}/2")
+        assert p.returncode == 0, p.stdout[-2000:]
+        _, verdicts = ptpcert_run(tmp_path, "sim:", "--shard", f"{k}/2")
+        assert outcomes and {cid: OUTCOME_OF[v] for cid, v in verdicts.items()} == outcomes
+        assert not set(seen) & set(outcomes)
+        seen.update(outcomes)
+    _, everything = ptpcert_run(tmp_path, "sim:")
+    assert set(seen) == set(everything)
+    p, _ = plugin_run(tmp_path, "sim:", "--ptpcert-shard", "3/2")
+    assert p.returncode == 4 and "--ptpcert-shard '3/2'" in p.stderr
+
+
 def test_xdist_workers_give_the_same_outcomes(tmp_path):
     pytest.importorskip("xdist")
     p, outcomes = plugin_run(tmp_path, "sim:", "-n", "2")

@@ -13,7 +13,7 @@ CAT = for_procedure("p3964")
 def test_the_3964_catalogue_is_the_procedures_own():
     assert CAT.procedure == "p3964" and CAT.prefix == "3964" and len(CAT) >= 80
     assert for_procedure("p3964") is CAT and for_rule("3964.RX.BCC-CHECK") is CAT
-    assert for_rule("RK512.X.Y") is None
+    assert for_rule("NOSUCH.X.Y") is None and for_rule("RK512.SEG.ERROR-ENDS-REQUEST") is for_procedure("rk512")
     # every procedure answers: a catalogue of its own, or the empty one
     for p in procedures():
         assert for_procedure(p).procedure in (p.id, "")

@@ -54,6 +54,7 @@ from ptpcert.procedures.ascii.model.params import (
     AsciiParams,
 )
 from ptpcert.procedures.ascii.model.readings import READINGS, TESTER_READINGS, frame_reaches_xoff
+from ptpcert.procedures.ascii.settings import RuleSettings
 
 if TYPE_CHECKING:   # the station and its host are imported where one is built (start-up)
     from ptpcert.procedures.ascii.model.app import AsciiHost
@@ -168,7 +169,7 @@ def iut_command(params: AsciiParams, *, mutant: str | None = None, python: str |
     return " ".join(shlex.quote(w) for w in words)
 
 
-class AsciiProcedure(Procedure):
+class AsciiProcedure(RuleSettings, Procedure):
     id = "ascii"
     rank = 30
     suite = "ptpcert.conformance.ascii"

@@ -13,29 +13,15 @@ from collections import deque
 
 from ptpcert.model.codes import Code
 from ptpcert.model.events import Status
-from ptpcert.procedure import Mutant
 from ptpcert.procedures.ascii.model import AsciiStation
 from ptpcert.procedures.ascii.model import events as aev
 from ptpcert.procedures.ascii.model import table as T
 from ptpcert.procedures.ascii.model.params import BUFFER_BYTES, MAX_FRAME
 from ptpcert.procedures.ascii.model.station import AsciiJob, Timer
 from ptpcert.procedures.ascii.model.table import FcInput, FcState, Row, RxInput, RxState, TxInput, TxState
-from ptpcert.variants import patched, registrar
+from ptpcert.variants import patched
 
-MUTANTS: dict[str, Mutant] = {}
-
-EC = {"end_criterion": "end_chars", "end_chars": [0x03]}
-EC2 = {"end_criterion": "end_chars", "end_chars": [0x0D, 0x0A]}
-FL = {"end_criterion": "fixed_length", "fixed_length": 8}
-XX = {"end_criterion": "end_chars", "end_chars": [0x03], "flow_control": "xon_xoff", "xon_wait_ms": 500}
-
-
-def _as_iut(cls):
-    """A variant's ``make(params, name="iut")``: only the parameters and the name are passed on."""
-    return lambda params, name="iut": cls(params, name=name)
-
-
-mutant = registrar(MUTANTS, make=_as_iut)
+from .mutant_registry import EC, EC2, FL, MUTANTS, XX, mutant
 
 
 def _patched_rx(rows: dict) -> dict:
@@ -295,3 +281,8 @@ class _(AsciiStation):
         self._cur.append(b)
         if self._spoil is None:
             self._full_check()
+
+
+# the variants made for the rules catalogue's kill matrix register themselves (after these,
+# so that the list keeps its order)
+from . import mutants_rules  # noqa: E402,F401

@@ -427,6 +427,41 @@ class Rk512Procedure(Procedure):
         from ptpcert.registry import by_id
         return Rk512Analyzer(by_id("p3964"), {"a": params_a, "b": params_b}, late_ms)
 
+    # -- the traceability matrix ------------------------------------------------------------
+    #: the areas of the settings the matrix is computed for: large enough for every case (a
+    #: 1024-byte request of every type), as the profile of a CP 341-sized partner would be
+    _RULE_AREAS = {"db_bytes": 2048, "byte_area_bytes": 2048, "cell_area_cells": 1024}
+
+    def rule_settings(self) -> list[tuple[str, dict[str, Any], Any]]:
+        """Both links in both priorities with both roles and DX blocks; then, over 3964R at
+        low priority, an IUT that is only passive, one that is only active, and one without
+        DX blocks - each at the bundled reference's timers, with every set-up."""
+        out = []
+        for label, settings in (
+                ("3964R low", {"link": "3964R", "priority": "low"}),
+                ("3964R high", {"link": "3964R", "priority": "high"}),
+                ("3964 low", {"link": "3964", "priority": "low"}),
+                ("3964 high", {"link": "3964", "priority": "high"}),
+                ("3964R low passive-only", {"link": "3964R", "priority": "low", "roles": ["passive"]}),
+                ("3964R low active-only", {"link": "3964R", "priority": "low", "roles": ["active"]}),
+                ("3964R low no-DX", {"link": "3964R", "priority": "low", "dx_range": []})):
+            profile = self.reference_profile(**self._RULE_AREAS, **settings)
+            out.append((label, self.setting_values(profile.params), profile))
+        return out
+
+    def setting_values(self, params: Any) -> dict[str, Any]:
+        return {"link": params.link, "priority": params.priority, "roles": tuple(params.roles),
+                "dx": "present" if params.dx_range else "absent"}
+
+    def setting_from_profile(self, profile: Mapping[str, Any], dimensions) -> dict[str, Any]:
+        values = super().setting_from_profile(profile, dimensions)
+        table = profile.get("rk512", {})
+        if "roles" in values:
+            values["roles"] = tuple(values["roles"])
+        if "dx_range" in table:
+            values["dx"] = "present" if table["dx_range"] else "absent"
+        return values
+
     # -- broken variants and fuzzing ------------------------------------------------------
     # -- ptpcert status -------------------------------------------------------------------
     def add_status_arguments(self, group) -> None:

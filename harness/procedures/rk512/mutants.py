@@ -14,28 +14,22 @@ from dataclasses import replace
 from math import inf
 
 from ptpcert.model.codes import Code
-from ptpcert.procedure import Mutant
 from ptpcert.procedures.rk512.model import Rk512Station
-from ptpcert.procedures.rk512.model.codec import CONTINUATION, FETCH, FIRST, HEADER_LEN, response_head
+from ptpcert.procedures.rk512.model.codec import (
+    CHUNK,
+    CONTINUATION,
+    FETCH,
+    FIRST,
+    HEADER_LEN,
+    response_head,
+    status_for_reatel,
+)
 from ptpcert.procedures.rk512.model.events import Served
-from ptpcert.procedures.rk512.model.requests import Request, parse_line
 from ptpcert.procedures.rk512.model.table import PState
-from ptpcert.variants import registrar
+from ptpcert.procedures.rk512.mutant_base import MUTANTS, LinkMutant, RequestChange, Rewrite, mutant
 
-MUTANTS: dict[str, Mutant] = {}
-
-
-mutant = registrar(MUTANTS, prefix="Rk512Mutant_")
-
-
-class _Rewrite(Rk512Station):
-    """A station whose frames are changed on their way to the link."""
-
-    def rewrite(self, frame: bytes, origin: str, owner) -> bytes:
-        return frame
-
-    def _queue(self, frame, origin, owner, detail=""):
-        super()._queue(self.rewrite(bytes(frame), origin, owner), origin, owner, detail)
+# the registry and the variants' common kinds live in mutant_base, shared with mutants_rules
+_Rewrite, _RequestChange, _LinkMutant = Rewrite, RequestChange, LinkMutant
 
 
 # ---------------------------------------------------------------- passive: responses
@@ -217,13 +211,11 @@ class _(_Rewrite):
 
 
 @mutant("odd-send-not-padded", "§6.3.2 'Important notes': a SEND of odd LEN to a DB drops its last byte (no pad word)")
-class _(Rk512Station):
-    def request(self, now, req):
-        if isinstance(req, str):
-            req = parse_line(req)
-        if isinstance(req, Request) and req.op == "send" and req.area.block and req.length % 2:
+class _(_RequestChange):
+    def change(self, req):
+        if req.op == "send" and req.area.block and req.length % 2:
             req = replace(req, length=req.length - 1, data=None if req.data is None else req.data[:-1])
-        return super().request(now, req)
+        return req
 
 
 # ---------------------------------------------------------------- active: responses and T_RES
@@ -232,6 +224,18 @@ class _(Rk512Station):
     def _d_check_response(self, frame):
         if frame[3]:
             frame = frame[:3] + b"\x00" + frame[4:]
+        return super()._d_check_response(frame)
+
+
+@mutant("error-response-goes-on", "§2.2.3 Fig. 2-19 ('send response with error message': 'partner request "
+        "finished'): after an error number on a response that is not the last, the requester reports it and goes on "
+        "with its next continuation")
+class _(Rk512Station):
+    def _d_check_response(self, frame):
+        job = self.job
+        if job is not None and len(frame) == 4 and frame[3] and job.remaining > CHUNK:
+            self._status(status_for_reatel(frame[3]), "send")
+            frame = frame[:3] + b"\x00" + (bytes(CHUNK) if job.fetch else b"")
         return super()._d_check_response(frame)
 
 
@@ -279,15 +283,6 @@ class _(Rk512Station):
 
 
 # ---------------------------------------------------------------- the link below
-class _LinkMutant(Rk512Station):
-    LINK = ""
-
-    def __init__(self, params, *a, name: str = "station", **kw):
-        super().__init__(params, *a, name=name, **kw)
-        from ptpcert.procedures.p3964.mutants import MUTANTS as LINK_MUTANTS
-        self.link = LINK_MUTANTS[self.LINK].make(self.params.line, name=name)
-
-
 @mutant("link-no-dle-doubling", "§2.2.2 note (DLE doubling): the link does not double data DLEs in RK 512 frames")
 class _(_LinkMutant):
     LINK = "no-dle-doubling"
@@ -302,3 +297,9 @@ class _(_LinkMutant):
         priority="high")
 class _(_LinkMutant):
     LINK = "high-priority-yields"
+
+
+# the variants made for the rules catalogue's kill matrix, entered into MUTANTS as they load
+from ptpcert.procedures.rk512 import mutants_rules  # noqa: E402,F401
+
+__all__ = ["MUTANTS", "mutant"]

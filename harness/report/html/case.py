@@ -15,6 +15,7 @@ from ptpcert.report.html.diagram import sequence_svg
 from ptpcert.report.html.events import LineBreak, burst_hex, group_events
 from ptpcert.report.html.frames import drawable_frames
 from ptpcert.report.html.markup import abbreviate_hex, badge, esc, is_num, ms
+from ptpcert.report.html.rules import rule_links
 from ptpcert.report.html.status import CODE_RE, codes_in_text, status_html
 from ptpcert.report.text import anchor, step_text
 from ptpcert.view import NEUTRAL, ReportView
@@ -125,6 +126,8 @@ def case_section(c: R.CaseResult, used: set[str], view: ReportView | None = None
             "<i>not checked (the IUT does not report STATUS, or the check was off)</i>"
     rows.append(("STATUS observed", obs))
     rows.append(("a CP 341 in the tester's seat raises", codes_in_text(c.tester_status or "none", used)))
+    if c.rules:
+        rows.append(("rules checked", rule_links(c.rules)))
     if c.readings:
         rows.append(("open points (readings)", esc(", ".join(c.readings))))
     if c.device:

@@ -69,6 +69,10 @@ def _header(run: R.RunResult, view: ReportView) -> str:
             ("vector set hash", run.vector_set_hash or "—")]
     if run.harness_scheduling:
         info.append(("harness scheduling", run.harness_scheduling))
+    if run.shard:
+        info.append(("shard", f"{run.shard} (ptpcert run --shard: a part of the selection)"))
+    if run.merged_from:
+        info.append(("merged from", ", ".join(run.merged_from)))
     out.append('<div class="cols"><div><h2>Run</h2>' + _table(info) + "</div>"
                '<div><h2>IUT profile</h2>' + _table(_profile_rows(run.profile, view)) + "</div></div></header>")
     return "".join(out)

@@ -10,16 +10,36 @@ rules catalogue (:mod:`ptpcert.rules`); the page (:mod:`ptpcert.report.html.page
 
 from __future__ import annotations
 
+import re
+
 from ptpcert import results as R
+from ptpcert.registry import by_id
 from ptpcert.report.html.markup import esc
 from ptpcert.report.text import anchor
-from ptpcert.rules import Catalogue, catalogues
+from ptpcert.rules import Catalogue, catalogues, for_rule
 
 #: worst first: the verdict a rule gets from the cases that cite it
 _WORST = (R.FAIL, R.XPASS, R.ERROR, R.NON_STRICT, R.INFORMATIONAL, R.PASS, R.XFAIL, R.UNSUPPORTED, R.NOT_RUN)
 NOT_CHECKED = "not run"
 UNTESTABLE = "untestable"
 NOT_APPLICABLE = "does not apply"
+
+
+def rule_anchor(rule_id: str) -> str:
+    """The HTML anchor of a rule's row in the traceability section."""
+    return "rule-" + "".join(c if c.isalnum() else "-" for c in rule_id)
+
+
+def rule_links(rule_ids: list[str]) -> str:
+    """A case's rule ids as links to their rows of the traceability section (an id of no
+    catalogue stays plain text)."""
+    return ", ".join(f'<a href="#{esc(rule_anchor(r))}"><code>{esc(r)}</code></a>' if for_rule(r) is not None
+                     else f"<code>{esc(r)}</code>" for r in rule_ids)
+
+
+def _natural(name: str) -> tuple:
+    """A sort key that puts A2 before A10 and AMB-02 before N1 (open points' names)."""
+    return tuple(int(x) if x.isdigit() else x for x in re.split(r"(\d+)", name))
 
 
 def _badge(verdict: str) -> str:
@@ -49,7 +69,7 @@ def rule_verdicts(run: R.RunResult, catalogue: Catalogue) -> dict[str, tuple[str
         for rid in c.rules:
             if rid in by_rule:
                 by_rule[rid].append(c)
-    setting = {k: run.profile[k] for k in catalogue.dimensions if k in (run.profile or {})}
+    setting = by_id(catalogue.procedure).setting_from_profile(run.profile or {}, catalogue.dimensions)
     out = {}
     for rule in catalogue:
         cases = by_rule[rule.id]
@@ -90,14 +110,14 @@ def traceability_section(run: R.RunResult) -> str:
             checked = "<br>".join(
                 f'{_badge(c.verdict)} <a href="#{esc(anchor(c.id))}"><code>{esc(c.id)}</code></a> {esc(c.title)}'
                 for c in sorted(cases, key=lambda c: (_WORST.index(c.verdict) if c.verdict in _WORST else 99, c.id)))
-        rows.append(f'<tr data-verdict="{esc(verdict)}"><td>{_badge(verdict)}</td>'
+        rows.append(f'<tr id="{esc(rule_anchor(rule.id))}" data-verdict="{esc(verdict)}"><td>{_badge(verdict)}</td>'
                     f'<td><code>{esc(rule.id)}</code>{scope}</td><td>{esc(rule.text)}<br><small>{esc(rule.ref)}'
                     + (f"; open points {esc(', '.join(rule.readings))}" if rule.readings else "")
                     + f"</small></td><td>{checked}</td></tr>")
     readings = "".join(
         f"<tr><td><code>{esc(a.id)}</code></td><td>{esc(a.question)}</td><td>{esc(a.model)}</td>"
         f"<td>{esc(a.grade)}</td></tr>"
-        for a in sorted(cat.readings.values(), key=lambda a: int(a.id[1:])))
+        for a in sorted(cat.readings.values(), key=lambda a: _natural(a.id)))
     return (f'<section id="traceability"><h2>Traceability: the manual\'s rules in this run</h2>'
             f"<p>{len(cat)} rules of {esc(cat.title)} ({esc(cat.manual)}): {summary}. A rule's verdict is the "
             "worst verdict of the cases that check it; untestable rules cannot be seen on the line.</p>"

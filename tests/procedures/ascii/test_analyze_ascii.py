@@ -302,6 +302,13 @@ BROKEN_RULE = {
     "no-start-up-xon": "'data flow control", "xoff-ignored": "interrupts its transmission",
     "xon-wait-endless": "(07)08H", "xon-wait-half": "Table 2-9", "no-xoff-when-full": "XOFF when",
     "no-xon-after-read": "XON once",
+    # the variants made for the rules catalogue (mutants_rules.py), seen in what the echo
+    # application sends back
+    "nul-dropped": "'expiry of the character delay time'", "cdt-quarter": "'end character(s)'",
+    "trailing-dropped": "'end character(s)'", "pair-across-cdt": "'end character(s)'",
+    "frame-limit-1000": "'receive buffer'", "last-byte-not-sent": "'sending'",
+    "len-with-end-appends": "'sending' (end character criterion)", "send-limit-1000": "'sending'",
+    "flow-code-ends-frame": "'end character(s)'", "overlong-spoils-next": "'expiry of the character delay time'",
 }
 
 #: variants whose defect the captures of the suite's failed cases do not show (each case ends
@@ -317,6 +324,12 @@ OWN_EXCHANGE = {
     "end-char-waits-cdt": ({"send_variant": "len_with_end"}, [(0.0, b"AB\x03"), (0.0, b"CD")]),
     # the variant's own job of 1025 bytes (a CP 341 refuses it: Table 8-2 (1E)41H)
     "len-over-1024-sent": ({}, []),
+    # characters after the end character and a frame within the CDT (merged by a conforming
+    # driver), then a frame that shows the merged one was not sent back
+    "trailing-dropped": ({}, [(0.0, b"AB\x03XY"), (0.0155, b"CD\x03"), (0.2, b"EF\x03")]),
+    # a frame of 1024 bytes, then a short one that shows the long one was not sent back
+    "frame-limit-1000": ({}, [(0.0, bytes(0x41 + i % 26 for i in range(1024))), (2.0, b"XY")]),
+    "send-limit-1000": ({}, [(0.0, bytes(0x41 + i % 26 for i in range(1024))), (2.0, b"XY")]),
 }
 
 #: broken variants added after the analysis was built, not yet checked against it: each must
@@ -330,6 +343,9 @@ NOT_VISIBLE_ON_THE_WIRE = {
     # "DE" (with the end-character criterion no pause is due between frames, and a job without
     # an end character goes out as it is: reading Q6). The job's data is not on the line.
     "up-to-end-not-cut": "the rest of the job after its end character looks like a second job",
+    # Table 8-1 (08)06H: a fragment the CDT cut off is discarded alike with or without the
+    # STATUS event, which is not on the line
+    "fragment-silent": "the missing 16#0806 is a STATUS event, not a character",
 }
 
 
@@ -339,7 +355,7 @@ def test_every_broken_variant_has_the_rule_it_breaks_named():
     sets = (set(BROKEN_RULE), set(NOT_VISIBLE_ON_THE_WIRE), set(NOT_YET_REVIEWED))
     assert sum(map(len, sets)) == len(set().union(*sets))
     assert set().union(*sets) == set(MUTANTS)
-    assert len(MUTANTS) == 28 and not NOT_YET_REVIEWED
+    assert len(MUTANTS) == 39 and not NOT_YET_REVIEWED
     assert set(OWN_EXCHANGE) <= set(BROKEN_RULE)
 
 
@@ -560,3 +576,57 @@ def test_a_repeated_xoff_is_the_other_reading_of_q15():
     an = A.analyze(cap, kit_for(p, p, {"a": "none", "b": "none"}), judge="b")
     assert not fails(an), [f.message for f in fails(an)]
     assert [(f.kind, f.readings) for f in an.findings] == [("reading", ("Q15",))], [f.message for f in an.findings]
+
+
+def _echo_capture(reply: bytes, *more: tuple[float, bytes]) -> C.Capture:
+    """Both stations switched on at 0 (without flow control: no start-up XON); a sends
+    41 42 ETX at 0.1 s; b, an echo station, answers ``reply`` in one read at 0.2 s, then
+    ``more``."""
+    chunks = [C.Chunk(0.1, "a", b"\x41\x42\x03"), C.Chunk(0.2, "b", reply)]
+    chunks += [C.Chunk(t, "b", d) for t, d in more]
+    return C.Capture(chunks, {"a": "a", "b": "b"}, C.LineSettings(9600, 8, "even", 1), marks=[C.Mark(0.0, "power-on")])
+
+
+def _echo_kit(app="echo-only"):
+    p = replace(reference_profile().params, flow_control="none")
+    return kit_for(p, p, apps={"a": "none", "b": app})
+
+
+def _case_of_finding(an: A.Analysis, f: A.Finding) -> A.Exchange:
+    (e,) = [e for e in an.line.exchanges if f in e.findings]
+    return e
+
+
+def test_an_echo_station_judged_on_its_own_exchange():
+    """Issue 27, item 13: a wrong echo fails, on the echo station's exchange (the frame's
+    characters read at once end up to the read's time, so the finding on its second
+    character belongs to the chunk's exchange, not the one before); a frame of its own from
+    an echo station fails (it sends back what it received, nothing else); the right echo
+    passes."""
+    kit = _echo_kit()
+    assert not fails(A.analyze(_echo_capture(b"\x41\x42\x03"), kit))
+    an = A.analyze(_echo_capture(b"\x41\x43\x03"), kit)
+    (f,) = fails(an, "b")
+    assert f.observed.startswith("43")
+    e = _case_of_finding(an, f)
+    assert an.line.chunks[e.first].seat == "b", "the wrong echo is shown on a's exchange"
+    an = A.analyze(_echo_capture(b"\x41\x42\x03", (0.4, b"\x58\x59\x03")), kit)
+    (f,) = fails(an, "b")
+    assert f.observed.startswith("58") and "no frame of its own" in f.message
+    # a station whose application echoes and may send frames of its own (a link's station), or
+    # that does not echo, may send one
+    for app in ("echo", "none"):
+        assert not fails(A.analyze(_echo_capture(b"\x41\x42\x03", (0.4, b"\x58\x59\x03")), _echo_kit(app)))
+
+
+def test_analyze_of_a_run_capture_takes_the_suites_echo_interface(tmp_path, capsys):
+    """In a capture of a run, seat b is the suite's IUT, which sends back what it receives and
+    nothing else: an unsolicited frame there fails (issue 27, item 13)."""
+    cap = _echo_capture(b"\x41\x42\x03", (0.4, b"\x58\x59\x03"))
+    cap.timing = C.Timing("sim", 0.0, 11 / 9600)
+    path = tmp_path / "run.json"
+    C.save(cap, path, "json")
+    prof = tmp_path / "p.toml"
+    prof.write_text(PROFILE.read_text().replace('flow_control = "xon_xoff"', 'flow_control = "none"'))
+    assert cli_main(["analyze", str(path), "--profile", str(prof), "-q"]) == 1
+    assert cli_main(["analyze", str(path), "--profile", str(prof), "-q", "--judge", "both"]) == 0

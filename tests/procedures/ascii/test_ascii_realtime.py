@@ -42,7 +42,10 @@ RUNS = {
                         "BUF.FULL-PREVENT-OVERWRITE"], []),
     "fl-xon-8-pty": (dict(end_criterion="fixed_length", fixed_length=100, flow_control="xon_xoff",
                           xon_wait_ms=1000), "pty",
-                     ["FL.EXACT", "FL.EDGE-OVER", "FC.XOFF-NEAR-END", "FC.XON-WITHIN-WAIT"], []),
+                     ["FL.EXACT", "FL.EDGE-OVER", "FC.XOFF-NEAR-END", "FC.XON-WITHIN-WAIT", "FC.OVERFLOW",
+                      "LINE.ALL-CODES"], []),
+    # the cases added for the rules catalogue
+    "cdt-none-8-exec": (dict(end_criterion="cdt", buffer_frames=12), "exec", ["LINE.ALL-CODES", "CDT.TOO-LONG"], []),
 }
 
 

@@ -18,6 +18,7 @@ from pathlib import Path
 
 from rk512_rules import (DLE, NAK, RESPONDER_8_3, STX, TABLE_8_3, UNKNOWN_REATEL, body, continuation, header, response,
                          unbody)
+from rk512_vector_rules import rules_for
 
 ROOT = Path(__file__).resolve().parents[3]
 OUT = ROOT / "vectors" / "rk512"
@@ -622,7 +623,10 @@ def duplex_timing_dle():
 
 
 def all_vectors() -> list[dict]:
-    return examples() + sizes() + class06() + class0a() + duplex_timing_dle()
+    out = examples() + sizes() + class06() + class0a() + duplex_timing_dle()
+    for v in out:
+        v["rules"] = rules_for(file_name(v).removesuffix(".toml"))
+    return out
 
 
 def file_name(v: dict) -> str:

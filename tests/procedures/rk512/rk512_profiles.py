@@ -79,3 +79,19 @@ def independent_variants() -> dict[str, str]:
     import subprocess
     out = subprocess.run([PY, str(INDEPENDENT), "--list-breaks"], capture_output=True, text=True, check=True).stdout
     return {line.split()[0]: line[len(line.split()[0]):].strip() for line in out.splitlines() if line.strip()}
+
+
+def run_cases(url: str, profile, cases):
+    """The cases (Vectors, already generated) run against ``url`` under ``profile``: the
+    RunResult."""
+    from ptpcert import results as R
+    from ptpcert.runner import Runner, RunOptions
+    from ptpcert.transport import make_factory
+
+    res = R.RunResult(tool_version="test", started="")
+    factory = make_factory(url, profile)
+    try:
+        Runner(factory, profile, RunOptions()).run(cases, res)
+    finally:
+        factory.shutdown()
+    return res

@@ -7,17 +7,16 @@ import json
 import subprocess
 
 import pytest
-from rk512_profiles import PY, ROOT, iut_command, rk_profile, rk_profile_dict, write_profile
+from rk512_profiles import PY, ROOT, iut_command, rk_profile, rk_profile_dict, run_cases, write_profile
 
 import ptpcert.conformance as conformance
 from ptpcert import results as R
 from ptpcert.registry import by_id
 from ptpcert.procedures.rk512.description import GROUPS
 from ptpcert.profile import profile_from_dict
-from ptpcert.runner import Runner, RunOptions
+from ptpcert.runner import Runner
 from ptpcert.scenario import load_vector_sets
 from ptpcert.suite import load_suite
-from ptpcert.transport import make_factory
 
 RK = by_id("rk512")
 MUTANTS = RK.mutants()
@@ -26,14 +25,7 @@ OK = (R.PASS, R.NON_STRICT, R.INFORMATIONAL)
 
 
 def run(url: str, profile, select=None) -> R.RunResult:
-    cases = load_suite(profile, load_vector_sets(), select=select)
-    res = R.RunResult(tool_version="test", started="")
-    factory = make_factory(url, profile)
-    try:
-        Runner(factory, profile, RunOptions()).run(cases, res)
-    finally:
-        factory.shutdown()
-    return res
+    return run_cases(url, profile, load_suite(profile, load_vector_sets(), select=select))
 
 
 @pytest.mark.parametrize("link,prio", COMBOS)

@@ -108,7 +108,7 @@ class AsciiAnalyzer(LocalEvents, Causes, ProcedureAnalyzer):
     def _host(self, seat: str, readings: Any = None) -> AsciiAnalysisHost:
         r = self._readings(readings)
         st = AsciiStation(self.params[seat], r.model, name=seat, explain=True)
-        return AsciiAnalysisHost(st, self.apps[seat] == "echo", r)
+        return AsciiAnalysisHost(st, self.apps[seat] in ("echo", "echo-only"), r, own_jobs=self.apps[seat] != "echo-only")
 
     def fresh(self, seat: str, t: float, readings: Any = None) -> AsciiAnalysisHost:
         host = self._host(seat, readings)

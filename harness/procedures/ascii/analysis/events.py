@@ -123,7 +123,9 @@ class LocalEvents:
         if not 1 <= len(payload) <= MAX_FRAME:
             self._unsendable[(seat, index)] = "len"
             return None
-        if host.echo and self._discarded(run, frame) is not None:
+        if host.echo and (self._discarded(run, frame) is not None or not (host.own_jobs or host.is_echo(payload))):
+            # an echo station sends back the frames its application read, and nothing of its
+            # own: another frame is not a send job it may have had
             return None
         if self._rest_of_aborted(run, frame, item.start):
             return None

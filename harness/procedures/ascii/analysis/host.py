@@ -61,9 +61,12 @@ class AsciiAnalysisHost:
     reads; the frames read "at once" since the line last showed a read (``tentative``), which
     an XOFF puts back."""
 
-    def __init__(self, station: AsciiStation, echo: bool, readings: AnalysisReadings):
+    def __init__(self, station: AsciiStation, echo: bool, readings: AnalysisReadings, *, own_jobs: bool = True):
         self.station = station
         self.echo = echo
+        #: the application may hand over frames of its own as well (False: the suite's IUT
+        #: interface, which sends back what it receives and nothing else)
+        self.own_jobs = own_jobs
         self.readings = readings
         #: reads every frame as soon as it is stored (an application that does not echo,
         #: until an XOFF shows it did not)

@@ -94,13 +94,13 @@ class P3964Analyzer(LocalEvents, Causes, ProcedureAnalyzer):
         st.pop_output()
         st.pop_events()
         st.tx_log.clear()
-        return Host(st, self.apps[seat])
+        return Host(st, "none" if self.apps[seat] == "none" else "echo")
 
     def powered(self, seat: str, t: float) -> Host:
         st = self._station(seat)
         st.set_buffer_free(t, False)
         st.power_on(t)
-        return Host(st, self.apps[seat])
+        return Host(st, "none" if self.apps[seat] == "none" else "echo")
 
     def at_rest(self, host: Host) -> bool:
         return host.station.idle

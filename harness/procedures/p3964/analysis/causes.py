@@ -218,7 +218,7 @@ class Causes:
             return Cause("local", rule, ref, 3e-6, late, code, name, ids)
         if T.Action.SETUP_ACKNOWLEDGED in actions:
             job = st.job
-            if (self.apps[seat] == "echo" and job is not None
+            if (self.apps[seat] in ("echo", "echo-only") and job is not None
                     and job.payload not in run.memo.get("requested", ())):
                 # a block the echo application sends back: the data the station delivered
                 rule = ("with the echo convention a station sends back the data it received, each doubled "

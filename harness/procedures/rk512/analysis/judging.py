@@ -66,6 +66,38 @@ _FRAME_ID = ("byte 1 of an RK 512 frame is 00h (first frame) or FFh (continuatio
              "§2.2.3 Tables 2-1, 2-2; Table 8-1 16#0601, 16#0A02")
 
 
+#: the ids of the RK 512 catalogue (``ptpcert rules --procedure RK512``) each rule above stands
+#: for, by its sentence; a response's problem by the reference :func:`response_problem` gives it
+RULE_IDS: dict[str, tuple[str, ...]] = {
+    _UNASKED[0]: ("RK512.RESP.NOT-ANSWERED", "RK512.RESP.ONE-PER-COMMAND"),
+    _MISSING[0]: ("RK512.RESP.ONE-PER-COMMAND", "RK512.TRES.RESPONSE-IN-TIME"),
+    _CONT_MISSING[0]: ("RK512.SEG.SEND-FRAMES", "RK512.SEG.FETCH-FRAMES"),
+    _CONT_UNASKED[0]: ("RK512.SEG.NEXT-AFTER-RESPONSE", "RK512.SEG.ERROR-ENDS-REQUEST"),
+    _CONT_RULE[0]: ("RK512.SEG.SEND-FRAMES", "RK512.SEG.FETCH-FRAMES", "RK512.SEG.CHUNK-128"),
+    _DEPTH[0]: ("RK512.QFD.NESTING-DEPTH-1",),
+    COMMAND_RULE[0]: ("RK512.CMD.HEADER", "RK512.TYPE.LETTERS", "RK512.CMD.FLAG-AND-CPU"),
+    _FRAME_ID[0]: ("RK512.CMD.HEADER",),
+}
+_PROBLEM_IDS: dict[str, tuple[str, ...]] = {
+    "Table 2-2; Table 8-1 16#0610": ("RK512.RESP.LAYOUT",),
+    "§2.2.3 Table 2-2; Table 8-1 16#0A01, 16#0A02": ("RK512.RESP.MIRRORS-COMMAND",),
+    "§2.2.3 Table 2-2": ("RK512.RESP.LAYOUT",),
+    "§8.4 Table 8-3; Table 8-1 16#090E": ("RK512.RESP.REATEL-VALUES",),
+    "§2.2.3 'Response message frame'; Fig. 2-19; §8.4 Table 8-3": ("RK512.RESP.REATEL-VALUES",
+                                                                 "RK512.STATUS.RESPONDER-EVENTS"),
+    "§2.2.3 'Receiving data'; Table 8-1 16#0A03, 16#0A04": ("RK512.RESP.ERROR-NO-DATA",),
+    "§2.2.3 'SEND message frame'; Table 8-1 16#0A04": ("RK512.RESP.SEND-NO-DATA",),
+    "§2.2.3 'FETCH message frame', Figs. 2-15, 2-16; Table 8-1 16#0A03": ("RK512.RESP.FETCH-DATA",),
+}
+
+
+def rule_ids(rule: tuple[str, str]) -> tuple[str, ...]:
+    """The catalogue's ids for a finding's (sentence, reference)."""
+    if rule[0] == _RESPONSE_RULE:
+        return _PROBLEM_IDS.get(rule[1], ("RK512.RESP.LAYOUT",))
+    return RULE_IDS.get(rule[0], ())
+
+
 class FrameJudging:
     """The judgement of a seat's RK 512 frames, for
     :class:`~ptpcert.procedures.rk512.analysis.frames.SeatFrames` (it brings ``kit``, ``seat``,
@@ -76,7 +108,7 @@ class FrameJudging:
                  expected: str = "", observed: str = "", codes: tuple[int, ...] = (),
                  readings: tuple[str, ...] = ()) -> None:
         run.findings.append(Finding(self.seat, t, grade, kind, rule[0], rule[1], message, expected=expected,
-                                    observed=observed, codes=codes, readings=readings))
+                                    observed=observed, codes=codes, readings=readings, rules=rule_ids(rule)))
 
     def _missing(self, run, e: Expect) -> None:
         due = self._due(e)
