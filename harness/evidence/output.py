@@ -68,7 +68,9 @@ def write_evidence(result, args, profile, cases, urls: list[str], view, cmd: str
         members = make_members(result, view=view, profile=profile, pixit=pixit(args, profile, urls, result), tool=tool)
         write_bundle(path, seal(members, result, tool, getattr(args, "sign", None)))
         return True
-    except (OSError, EvidenceError, CaptureError) as exc:
+    except Exception as exc:   # one line, and the other reports stand
+        if not isinstance(exc, (OSError, EvidenceError, CaptureError)):
+            exc = f"a fault of ptpcert: {type(exc).__name__}: {' '.join(str(exc).split())[:300]}"
         print(f"ptpcert {cmd}: --evidence {path}: cannot be written ({getattr(exc, 'strerror', None) or exc})",
               file=sys.stderr)
         return False

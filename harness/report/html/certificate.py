@@ -9,6 +9,7 @@ It reads the results object, the rules catalogue and the facts handed in.
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 from ptpcert import results as R
@@ -24,6 +25,11 @@ vertical-align:top}th{background:#eee}.verdict{font-size:1.4em;font-weight:bold;
 
 #: the groups of verdicts shown per group of cases
 _COLUMNS = (R.PASS, R.NON_STRICT, R.INFORMATIONAL, R.FAIL, R.XFAIL, R.XPASS, R.ERROR, R.UNSUPPORTED, R.NOT_RUN)
+
+
+def _point_order(point: str) -> tuple:
+    """An open point's id in its natural order: A2 before A10, MB-01 before MB-02."""
+    return tuple(int(p) if p.isdigit() else p for p in re.split(r"(\d+)", point))
 
 
 def _rows(pairs) -> str:
@@ -67,9 +73,8 @@ def render_certificate(run: R.RunResult, *, tool: dict[str, Any], digest: str) -
     rules_html = (f"<p>{esc(title)}: " + ", ".join(f"{n} {esc(k)}" for k, n in rules.items()) + "</p>"
                   if rules else "<p>no rules catalogue for this procedure</p>")
     cat = catalogue_for(run)
-    applied = sorted({r for c in run.cases for r in c.readings},
-                     key=lambda r: (int(r[1:]) if r[:1] == "A" and r[1:].isdigit() else 10**6, r))
-    points = ", ".join(sorted(cat.readings, key=lambda a: int(a[1:]))) if cat is not None and cat.readings else "none"
+    applied = sorted({r for c in run.cases for r in c.readings}, key=_point_order)
+    points = ", ".join(sorted(cat.readings, key=_point_order)) if cat is not None and cat.readings else "none"
     readings = (f"<p>open points of the manual: {esc(points)}</p><p>readings the cases applied: "
                 + (esc("; ".join(applied)) if applied else "none") + "</p>")
     devs = run.deviations()
