@@ -12,6 +12,9 @@ line_conditions = "parmrk"       # "parmrk": reads PARMRK marks on exec:/pty:; "
 status_from_stderr = true        # prints "STATUS 16#XXXX" lines on stderr
 timer_tolerance_ms = 0           # optional: how late the IUT's own timers may act (declared)
 
+[iut.identity]                   # optional: which IUT this is (shown in every report)
+vendor = "ACME"                  # vendor, product, version, serial, text: free text each
+
 [iut.setups]                     # optional: words appended to an exec:/pty: command for the
 name = "--words"                 # cases that need the IUT in a special state
 
@@ -38,7 +41,7 @@ from .procedure import Procedure, ProcedureError
 COMMON_REQUIRED = ("procedure", "send_trigger", "line_conditions", "status_from_stderr")
 COMMON_CHOICES = {"send_trigger": ("echo", "none"), "line_conditions": ("parmrk", "none")}
 #: [iut] keys every procedure may have
-COMMON_OPTIONAL = ("timer_tolerance_ms", "setups")
+COMMON_OPTIONAL = ("timer_tolerance_ms", "setups", "identity")
 #: the largest timer tolerance a profile may declare (ms)
 MAX_TIMER_TOLERANCE_MS = 60_000
 
@@ -64,6 +67,8 @@ class Profile:
     #: due an output that a timer of the IUT causes may come. It widens only the late side
     #: of windows that end on an IUT timer, on top of the harness's own tolerance.
     timer_tolerance_ms: float = 0.0
+    #: ``[iut.identity]``: vendor, product, version, serial, text (those given)
+    identity: dict[str, str] = field(default_factory=dict)
 
     @property
     def echo(self) -> bool:
@@ -195,11 +200,27 @@ def profile_from_dict(raw: dict[str, Any], where: str = "<profile>") -> Profile:
         problem = _setup_problem(setups[name_], proc.reference_setups.get(name_, ""))
         if problem:
             raise ProfileError(where, f"iut.setups.{name_}", problem)
+    identity = _identity(iut.get("identity", {}), where)
     xf = raw.get("expected_failures", {})
     if not isinstance(xf, dict) or any(not isinstance(v, str) or not v.strip() for v in xf.values()):
         raise ProfileError(where, "expected_failures", "a table of case id = \"reason\" (each with a reason)")
     return Profile(proc, params, iut["send_trigger"], iut["line_conditions"], iut["status_from_stderr"],
-                   dict(xf), dict(setups), where, float(timer_tol))
+                   dict(xf), dict(setups), where, float(timer_tol), identity)
+
+
+def _identity(table: Any, where: str) -> dict[str, str]:
+    """``[iut.identity]`` checked key by key against :data:`ptpcert.schema.IDENTITY`."""
+    if not isinstance(table, dict):
+        raise ProfileError(where, "iut.identity", "must be a table ([iut.identity] with "
+                           + ", ".join(k.name for k in schema.IDENTITY) + ")")
+    keys = {k.name: k for k in schema.IDENTITY}
+    for name in table:
+        if name not in keys:
+            raise ProfileError(where, f"iut.identity.{name}", "unknown key (allowed: " + ", ".join(keys) + ")")
+        why = schema.problem(keys[name], table[name])
+        if why:
+            raise ProfileError(where, f"iut.identity.{name}", why)
+    return {k: table[k] for k in keys if k in table and table[k].strip()}
 
 
 

@@ -39,6 +39,11 @@ def pytest_addoption(parser) -> None:
                 help="only shard K of N of the cases, as 'ptpcert run --shard K/N' splits them")
     g.addoption("--ptpcert-tolerance-ms", type=float, default=50.0,
                 help="how late a reply may be beyond its window, plus 25%% of the window (default 50)")
+    g.addoption("--ptpcert-evidence", metavar="FILE.zip", default=None,
+                help="write the cases' evidence bundle at the end (as 'ptpcert run --evidence'; 'ptpcert verify' "
+                     "checks it)")
+    g.addoption("--ptpcert-sign", metavar="KEY", default=None,
+                help="sign the evidence bundle's manifest with this OpenSSH private key")
 
 
 def _group_marker(group: str) -> str:
@@ -92,7 +97,15 @@ def pytest_configure(config) -> None:
     if shard is not None:
         from .suite import shard_of
         cases = shard_of(profile, selection, *shard)[0]
-    config.stash[_STATE] = {"url": url, "profile": profile, "cases": cases, "runner": None}
+    evidence = _evidence_args(config, tolerance)
+    if evidence is not None:
+        evidence.shard = shard
+        from .evidence.output import options_problem
+        problem = options_problem(evidence)
+        if problem:
+            raise pytest.UsageError(f"ptpcert: {problem}")
+    config.stash[_STATE] = {"url": url, "profile": profile, "cases": cases, "runner": None,
+                            "evidence": evidence, "results": {}}
     idle = _runner(config).nothing_to_test(selection)
     if idle:   # every case would skip: a gate must not read that as a pass
         raise pytest.UsageError(f"ptpcert: {idle}")
@@ -131,6 +144,51 @@ def _runner(config):
     return state["runner"]
 
 
+def _now() -> str:
+    """The time now, to the second, for the bundle's results."""
+    import datetime as dt
+    return dt.datetime.now(dt.timezone.utc).astimezone().isoformat(timespec="seconds")
+
+
+def _evidence_args(config, tolerance: float):
+    """The options of the evidence bundle as ``ptpcert run`` has them, or None without
+    ``--ptpcert-evidence``."""
+    import argparse
+
+    path, key = config.getoption("--ptpcert-evidence"), config.getoption("--ptpcert-sign")
+    if path is None and key is None:
+        return None
+    if path is None:
+        raise pytest.UsageError("ptpcert: --ptpcert-sign needs --ptpcert-evidence FILE.zip")
+    if getattr(config.option, "numprocesses", None):   # each xdist worker holds only its own cases
+        raise pytest.UsageError("ptpcert: --ptpcert-evidence collects every case in one process: run it without -n")
+    return argparse.Namespace(evidence=path, sign=key, tolerance_ms=tolerance,
+                              select=config.getoption("--ptpcert-select"), vectors=config.getoption("--ptpcert-vectors"),
+                              vectors_only=False, priority="normal", jobs=1)
+
+
+def pytest_sessionfinish(session, exitstatus) -> None:
+    """The evidence bundle of the cases run (every case not reached: not run)."""
+    state = session.config.stash.get(_STATE, None)
+    if state is None or state["evidence"] is None or hasattr(session.config, "workerinput"):
+        return
+    from . import __version__
+    from . import results as R
+    from .evidence.output import write_evidence
+    from .scenario import vector_set_hash
+
+    profile, cases = state["profile"], state["cases"]
+    result = R.RunResult(tool_version=__version__, started=state.get("started", _now()), iut=state["url"],
+                         procedure=profile.procedure.title, profile=profile.to_dict(), profile_path=str(profile.path),
+                         vector_set="bundled", vector_set_hash=vector_set_hash(cases), iut_identity=dict(profile.identity))
+    result.cases = [state["results"][v.id] for v in cases if v.id in state["results"]]
+    result.interrupted = bool(session.shouldstop) or exitstatus == pytest.ExitCode.INTERRUPTED
+    result.fill_missing(cases, R.NOT_RUN, "not run in this pytest session")
+    result.finished = _now()
+    write_evidence(result, state["evidence"], profile, cases, [state["url"]], profile.procedure.report_view(),
+                   cmd="pytest")
+
+
 def pytest_unconfigure(config) -> None:
     state = config.stash.get(_STATE, None)
     if state is not None and state["runner"] is not None:
@@ -155,7 +213,11 @@ class CaseItem(pytest.Item):
         # the case runs here, so that a harness error is a pytest error, not a failure
         from . import results as R
 
+        state = self.config.stash[_STATE]
+        if "started" not in state:
+            state["started"] = _now()
         self.result = res = _runner(self.config).run_case(self.vector)
+        state["results"][self.vector.id] = res
         self.user_properties.append(("verdict", res.verdict))
         self.user_properties.append(("reference", self.vector.reference))
         if res.verdict == R.ERROR:

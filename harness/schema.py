@@ -183,3 +183,15 @@ COMMON: tuple[Key, ...] = (
         "IUT causes may come (the vendor's declared accuracy): widens only the late side of those windows",
         default=0, lo=0, hi=60_000, unit="ms"),
 )
+
+
+#: the optional ``[iut.identity]`` table: who made the IUT and which one it is, as a test
+#: report names the implementation (ISO/IEC 9646's PICS); shown in every report, carried
+#: in the evidence bundle. Free text each, none required.
+IDENTITY: tuple[Key, ...] = (
+    Key("vendor", "iut.identity", "str", "who makes the IUT", default=""),
+    Key("product", "iut.identity", "str", "the IUT's product name or order number", default=""),
+    Key("version", "iut.identity", "str", "the IUT's firmware or software version", default=""),
+    Key("serial", "iut.identity", "str", "the serial number of the unit tested", default=""),
+    Key("text", "iut.identity", "str", "anything else a reader of the certificate should know", default=""),
+)

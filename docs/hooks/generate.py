@@ -80,7 +80,7 @@ GENERATED = ("*Generated from the code when the site was built "
 # -- the pages -----------------------------------------------------------------------------
 def profile_keys() -> str:
     from ptpcert.registry import all_names, procedures
-    from ptpcert.schema import COMMON
+    from ptpcert.schema import COMMON, IDENTITY
 
     def rows(keys) -> list[tuple[str, ...]]:
         out = []
@@ -111,7 +111,9 @@ def profile_keys() -> str:
             "## Keys of every procedure\n\n",
             f"`[iut] procedure` selects the procedure: one of "
             + ", ".join(code(toml_value(n)) for n in all_names()) + ". Every procedure's `[iut]` table also has:\n\n",
-            table(head, rows(COMMON))]
+            table(head, rows(COMMON)),
+            "\nThe optional table `[iut.identity]` names the IUT in every report and on the certificate of an "
+            "evidence bundle ([Evidence](../evidence.md)):\n\n", table(head, rows(IDENTITY))]
     for proc in procedures():
         names = ", ".join(code(toml_value(n)) for n in proc.names)
         text += [f"\n## {proc.title}\n\n", f"`procedure = {names.replace('`', '')}`"

@@ -182,6 +182,8 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     cli_rules.add_commands(sub)
     from ptpcert.cli import profile as cli_profile
     cli_profile.add_commands(sub)
+    from ptpcert.cli import evidence as cli_evidence
+    cli_evidence.add_commands(sub)
     return ap
 
 

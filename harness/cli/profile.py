@@ -69,10 +69,10 @@ def cmd_profile(args) -> int:
 
 def _keys(name: str) -> int:
     from ptpcert.registry import by_name
-    from ptpcert.schema import COMMON
+    from ptpcert.schema import COMMON, IDENTITY
 
     proc = by_name(name)
-    keys = list(COMMON) + list(proc.profile_schema())
+    keys = list(COMMON) + list(IDENTITY) + list(proc.profile_schema())
     for k in keys:
         default = "required" if k.required else f"default {_shown(k.default)}"
         where = "; only where " + ", ".join(f"{o} is {' or '.join(map(_shown, v))}" for o, v in k.when.items()) \

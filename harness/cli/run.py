@@ -19,6 +19,8 @@ TOLERANCE_MS = number(float, 0, 10_000, "milliseconds")
 STARTUP_S = number(float, 0.1, 600, "seconds")
 MAX_FAILURES = number(int, 0, None, "(0: no limit)")
 EDGE_ATTEMPTS = number(int, 1, 100)
+#: the files a run writes on request
+REPORTS = ("junit", "json", "html", "pcap", "evidence")
 
 
 def JOBS(text: str) -> int:
@@ -72,6 +74,8 @@ def add_commands(sub) -> None:
     r.add_argument("--pcap", metavar="PATH",
                    help="write the run's wire traffic as one capture (pcap, LINKTYPE_RTAC_SERIAL) for "
                         "Wireshark and 'ptpcert analyze'")
+    from . import evidence as cli_evidence
+    cli_evidence.add_run_arguments(r)
     r.add_argument("--vectors", action="append", default=[], metavar="DIR",
                    help="a directory of vectors to run in addition to the bundled golden vectors (repeatable)")
     r.add_argument("--vectors-only", action="store_true",
@@ -186,7 +190,8 @@ def cmd_run(args) -> int:
         print(f"shard {k}/{n}: {len(cases)} of {len(selection)} cases, forced waits {mine:.1f} s of "
               f"{total:.1f} s", flush=True)
     # before the first case: a run must never end without the reports it was asked for
-    problem = report_paths_problem(args, ("junit", "json", "html", "pcap"))
+    from ptpcert.evidence.output import options_problem, write_evidence
+    problem = report_paths_problem(args, ("junit", "json", "html", "pcap")) or options_problem(args)
     if problem:
         print(f"ptpcert run: {problem}", file=sys.stderr)
         return 2
@@ -196,7 +201,7 @@ def cmd_run(args) -> int:
     result = R.RunResult(tool_version=__version__, started=now(), iut=" | ".join(urls), procedure=profile.procedure.title,
                          profile=profile.to_dict(), profile_path=str(args.profile),
                          vector_set=vector_set_label(args.vectors, args.vectors_only), vector_set_hash=vector_set_hash(selection),
-                         html_path=args.html or "",
+                         html_path=args.html or "", iut_identity=dict(profile.identity),
                          shard="{}/{}".format(*shard) if shard else "")
 
     def progress(i, n, c, running=None):
@@ -266,16 +271,18 @@ def cmd_run(args) -> int:
         if interrupts.count:
             result.interrupted = True
         written = write_reports(result, args, "run", profile.procedure.report_view())
+        if write_evidence(result, args, profile, cases, urls, profile.procedure.report_view()) and args.evidence:
+            written.add("evidence")
         if startup_failure or fault:
             print(f"ptpcert run: {' '.join((startup_failure or fault).split())[:600]}", file=sys.stderr)
         else:
             print(rep.summary(result))
-        for kind in ("junit", "json", "html", "pcap"):
+        for kind in REPORTS:
             if getattr(args, kind, None) and kind in written:
                 print(f"{kind}: {getattr(args, kind)}")
         sys.stdout.flush()
         if (startup_failure or fault or result.interrupted or interrupts.count
-                or len(written) < sum(bool(getattr(args, k, None)) for k in ("junit", "json", "html", "pcap"))):
+                or len(written) < sum(bool(getattr(args, k, None)) for k in REPORTS)):
             return 2
     if result.counts()[R.ERROR] and result.exit_status() == 0:
         return 2
@@ -284,13 +291,7 @@ def cmd_run(args) -> int:
 
 def mark_not_run(result, cases, verdict: str, message: str) -> None:
     """Every case of ``cases`` without a result gets one: ``verdict`` with ``message``."""
-    from ptpcert import results as R
-
-    done = {c.id for c in result.cases}
-    for v in cases:
-        if v.id not in done:
-            result.cases.append(R.CaseResult(v.id, v.title, v.reference, v.rule, v.group, v.iut_role,
-                                             verdict=verdict, message=message, source=v.source))
+    result.fill_missing(cases, verdict, message)
 
 
 def vector_set_label(extra, only: bool) -> str:

@@ -74,6 +74,8 @@ def write_junit(run: R.RunResult, path: str | Path, view: ReportView | None = No
     props = {"tool": f"ptpcert {run.tool_version}", "iut": run.iut, "profile": run.profile_path,
              "vector_set_hash": run.vector_set_hash, "verdict": run.verdict,
              "interrupted": str(run.interrupted).lower()}
+    for k, v in run.iut_identity.items():
+        props[f"identity.{k}"] = v
     if run.shard:
         props["shard"] = run.shard
     if run.merged_from:

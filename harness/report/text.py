@@ -125,12 +125,19 @@ def timer_tolerance_text(run: R.RunResult) -> str:
             "windows that end on an IUT timer, beyond the harness's own tolerance)")
 
 
+def identity_text(run: R.RunResult) -> str:
+    """The IUT's identity (the profile's ``[iut.identity]``) in one line, or ""."""
+    return "; ".join(f"{k} {v}" for k, v in run.iut_identity.items())
+
+
 def summary(run: R.RunResult) -> str:
     counts = run.counts()
     virtual = run.harness_scheduling.startswith("virtual time")
     # in virtual time the harness keeps every window exactly: the IUT's tolerance is worth a
     # line only where one is declared
     lines = [""] + ([timer_tolerance_text(run)] if run.profile.get("timer_tolerance_ms") or not virtual else [])
+    if run.iut_identity:
+        lines.insert(1, f"IUT: {identity_text(run)}")
     if run.harness_scheduling:
         lines.append(f"harness scheduling: {run.harness_scheduling}")
     if run.shard:

@@ -132,6 +132,8 @@ def check_run(d: Any, run_fields: Iterable[Field]) -> None:
     for f in run_fields:
         if f.name in d and f.name != "cases" and not is_kind(d[f.name], _kind_of(f.type)):
             raise ResultsError(f"{f.name}: must be {_type_name(_kind_of(f.type))}")
+    if any(not isinstance(v, str) for v in (d.get("iut_identity") or {}).values()):
+        raise ResultsError("iut_identity: must be an object of strings (vendor, product, version, serial, text)")
     cases = d.get("cases")
     if not isinstance(cases, list):
         raise ResultsError("cases: missing, or not a list of cases")

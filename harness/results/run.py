@@ -42,6 +42,9 @@ class RunResult:
     html_path: str = ""
     #: the harness's scheduling class for the run (:mod:`ptpcert.priority`), for people
     harness_scheduling: str = ""
+    #: the IUT's identity from the profile's ``[iut.identity]`` (vendor, product, version,
+    #: serial, text: those given), shown in every report
+    iut_identity: dict[str, str] = field(default_factory=dict)
     #: ``ptpcert run --shard K/N``: "K/N" where the run is one shard of its selection (its
     #: vector set hash is then the whole selection's, the same in every shard)
     shard: str = ""
@@ -52,6 +55,15 @@ class RunResult:
     #: under way (the views then compute them), filled in the JSON so that a re-rendered
     #: report shows the groups the run found
     root_causes: list[dict[str, Any]] = field(default_factory=list)
+
+    def fill_missing(self, cases, verdict: str, message: str) -> None:
+        """Every case of ``cases`` (vectors: id, title, reference, rule, group, iut_role,
+        source) without a result gets one: ``verdict`` with ``message``."""
+        done = {c.id for c in self.cases}
+        for v in cases:
+            if v.id not in done:
+                self.cases.append(CaseResult(v.id, v.title, v.reference, v.rule, v.group, v.iut_role,
+                                             verdict=verdict, message=message, source=v.source))
 
     def deviations(self) -> list[dict[str, Any]]:
         """The distinct deviations: the stored groups, or those of the cases as they stand."""

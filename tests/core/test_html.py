@@ -603,6 +603,60 @@ var pre=document.createElement('pre');pre.id='probe';pre.textContent=JSON.string
 })();</script>"""
 
 
+def probe_in_chromium(text: str, tail: str, tmp_path: Path) -> tuple[dict, str]:
+    """The page ``text`` opened in headless Chromium with :data:`PROBE_HEAD` before its own
+    script and ``tail`` after it; what the probe wrote (its ``<pre id="probe">``, JSON) and
+    Chromium's standard error."""
+    import html as _html
+    import json as _json
+
+    page = tmp_path / "probe.html"
+    page.write_text(text.replace("<head>", "<head>" + PROBE_HEAD).replace("</body>", tail + "</body>"), "utf-8")
+    flags = ["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-background-networking",
+             "--disable-component-update", "--disable-sync", "--window-size=1400,1000",
+             "--enable-logging=stderr", "--v=0"]
+    with tempfile.TemporaryDirectory() as profile_dir:
+        p = subprocess.run([str(CHROMIUM), *flags, f"--user-data-dir={profile_dir}", "--dump-dom", page.as_uri()],
+                           capture_output=True, text=True, timeout=90)
+    m = re.search(r'<pre id="probe">(.*?)</pre>', p.stdout, re.S)
+    assert m, "the probe did not run: " + p.stderr[-2000:]
+    return _json.loads(_html.unescape(m.group(1))), p.stderr
+
+
+#: after the certificate: what a person sees (the verdict, the digest, the tables) and the errors
+CERTIFICATE_TAIL = """<script>(function(){
+function shown(el){return !!el&&el.getClientRects().length>0;}
+var d=document.getElementById('bundle-digest');
+var out={errors:window.__errors,digest:d?d.textContent:'',digestShown:shown(d),
+verdict:(document.querySelector('.verdict')||{}).textContent||'',tables:document.querySelectorAll('table').length,
+height:document.body.scrollHeight};
+var pre=document.createElement('pre');pre.id='probe';pre.textContent=JSON.stringify(out);document.body.appendChild(pre);
+})();</script>"""
+
+
+@pytest.mark.realtime
+def test_the_certificate_renders_in_headless_chromium(full_run, tmp_path):
+    """The evidence bundle's one-page certificate in a real browser: no console errors, the
+    verdict and the bundle's digest shown, short enough to print."""
+    if not CHROMIUM.exists():
+        pytest.skip("/usr/bin/chromium is not installed (Debian package 'chromium'; .ci/run installs it)")
+    from ptpcert.evidence.facts import tool_facts
+    from ptpcert.report.html.certificate import render_certificate
+
+    run = mixed_run(full_run)
+    run.iut_identity = {"vendor": "ACME <Automation>", "product": "PtP-9"}
+    profile = load_profile(PROFILE)
+    digest = "ab" * 32
+    text = render_certificate(run, tool=tool_facts(load_suite(profile, load_vector_sets())), digest=digest)
+    assert "<script" not in text and "http" not in text                 # self-contained, nothing to fetch
+    assert "ACME &lt;Automation&gt;" in text
+    seen, stderr = probe_in_chromium(text, CERTIFICATE_TAIL, tmp_path)
+    assert seen["errors"] == [] and "Uncaught" not in stderr, (seen["errors"], stderr[-2000:])
+    assert seen["digest"] == digest and seen["digestShown"]
+    assert seen["verdict"] == run.verdict.upper() and seen["tables"] >= 3
+    assert seen["height"] < 4000                                          # a page or two, printable
+
+
 @pytest.mark.realtime
 def test_the_report_works_in_headless_chromium(full_run, tmp_path):
     """In a real browser (headless Chromium, its DOM dumped after a script that works the
@@ -612,21 +666,8 @@ def test_the_report_works_in_headless_chromium(full_run, tmp_path):
         pytest.skip("/usr/bin/chromium is not installed (Debian package 'chromium'; .ci/run installs it)")
     text = H.render(mixed_run(full_run))
     assert text.count("<head>") == 1 and text.count("</body>") == 1
-    page = tmp_path / "probe.html"
-    page.write_text(text.replace("<head>", "<head>" + PROBE_HEAD).replace("</body>", PROBE_TAIL + "</body>"),
-                    "utf-8")
-    flags = ["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-background-networking",
-             "--disable-component-update", "--disable-sync", "--window-size=1400,1000",
-             "--enable-logging=stderr", "--v=0"]
-    with tempfile.TemporaryDirectory() as profile_dir:
-        p = subprocess.run([str(CHROMIUM), *flags, f"--user-data-dir={profile_dir}", "--dump-dom", page.as_uri()],
-                           capture_output=True, text=True, timeout=90)
-    m = re.search(r'<pre id="probe">(.*?)</pre>', p.stdout, re.S)
-    assert m, "the probe did not run: " + p.stderr[-2000:]
-    import html as _html
-    import json as _json
-    seen = _json.loads(_html.unescape(m.group(1)))
-    assert seen["errors"] == [] and "Uncaught" not in p.stderr, (seen["errors"], p.stderr[-2000:])
+    seen, stderr = probe_in_chromium(text, PROBE_TAIL, tmp_path)
+    assert seen["errors"] == [] and "Uncaught" not in stderr, (seen["errors"], stderr[-2000:])
     assert seen["filterShown"]                                  # the script ran and showed the filter
     want = len(case_svgs(text))
     assert want >= 8 and seen["svgs"] == want and seen["sized"] == want, seen

@@ -180,3 +180,24 @@ def test_a_profile_without_an_iut_is_said(tmp_path):
         p = subprocess.run([PY, "-m", "pytest", "-q", "-p", "no:cacheprovider", *args], cwd=tmp_path,
                            capture_output=True, text=True, timeout=300)
         assert p.returncode == 4 and "ERROR: ptpcert: --ptpcert-" in p.stdout + p.stderr, p.stdout + p.stderr
+
+
+def test_the_plugin_writes_an_evidence_bundle_that_verifies(tmp_path):
+    bundle = tmp_path / "cert.zip"
+    p, outcomes = plugin_run(tmp_path, "sim:?mutant=break-as-data", "--ptpcert-select", "SUITE.BREAK.*",
+                             "--ptpcert-select", "SUITE.STARTUP.*", f"--ptpcert-evidence={bundle}")
+    assert bundle.is_file(), p.stdout[-2000:] + p.stderr[-2000:]
+    import zipfile
+    with zipfile.ZipFile(bundle) as z:
+        run = json.loads(z.read("results.json"))
+    # the bundle's verdicts are the session's outcomes, case by case
+    assert {c["id"]: OUTCOME_OF[c["verdict"]] for c in run["cases"]} == outcomes
+    assert "failed" in outcomes.values()
+    v = subprocess.run([PY, "-m", "ptpcert.cli", "verify", str(bundle)], capture_output=True, text=True, timeout=300)
+    assert v.returncode == 0, v.stdout
+    assert "re-judged offline" in v.stdout
+    # with xdist every worker holds only its own cases: refused
+    p = subprocess.run([PY, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--ptpcert-iut", "sim:",
+                        "--ptpcert-profile", str(PROFILE), f"--ptpcert-evidence={bundle}", "-n", "2"],
+                       cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert p.returncode == 4 and "run it without -n" in p.stderr

@@ -63,6 +63,7 @@ def _header(run: R.RunResult, view: ReportView) -> str:
             ("wall time", f"{run.wall_time:.1f} s"),
             ("interrupted", "yes" if run.interrupted else "no"),
             ("IUT", run.iut or "—"),
+            *((f"IUT {k}", v) for k, v in run.iut_identity.items()),
             ("profile file", run.profile_path or "—"),
             ("vector set", run.vector_set or "—"),
             ("vector set hash", run.vector_set_hash or "—")]
