@@ -271,7 +271,7 @@ def cmd_run(args) -> int:
         if interrupts.count:
             result.interrupted = True
         written = write_reports(result, args, "run", profile.procedure.report_view())
-        if write_evidence(result, args, profile, cases, urls, profile.procedure.report_view()) and args.evidence:
+        if write_evidence(result, args, profile, cases, urls, profile.procedure.report_view()) and getattr(args, "evidence", None):
             written.add("evidence")
         if startup_failure or fault:
             print(f"ptpcert run: {' '.join((startup_failure or fault).split())[:600]}", file=sys.stderr)
