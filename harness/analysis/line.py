@@ -131,10 +131,18 @@ class LineAnalysis:
             kind = "byte" if cond is None else "invalid"
             n = len(data)
             ct = chunk.t
+            floor = prev
+            if self.resolution > 0 and n > 1:
+                # a read of several characters is spread back at the line's pace, but not
+                # behind the other seat's last character: with a timing resolution the order
+                # of characters stamped within it of each other is the ordering rule's
+                other = self.items["b" if seat == "a" else "a"]
+                if other and other[-1].t > floor:
+                    floor = other[-1].t
             for i, b in enumerate(data):
                 t = ct - (n - 1 - i) * c
-                if t < prev:
-                    t = prev
+                if t < floor:
+                    t = floor
                 start = t - c
                 items.append(Item(t, kind, b, k, start if start > prev else prev))
                 prev = t

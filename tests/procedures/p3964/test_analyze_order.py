@@ -218,3 +218,19 @@ def test_a_block_read_in_one_piece_just_after_the_dle_is_no_failure(lag, size):
     block = codec.body(b"A" * size, "3964R")
     chunks += [C.Chunk(round(t + lag, 6), "b", block), _a(t + lag + 0.0002, DLE)]
     assert not _fails(chunks)
+
+
+@SETTINGS
+@given(lag=st.floats(0.0001, 0.8 * RES), size=st.integers(3, 60), dle_at=st.floats(0.3, 0.8))
+def test_a_block_read_in_one_piece_after_a_late_dle_is_no_failure(lag, size, dle_at):
+    """The tester's DLE comes late in the IUT's ADT (SUITE.TIMING.SETUP-DLE-AT-80-ADT); the IUT
+    writes its block whole and the harness reads it in one piece just after: spread back at
+    the line's pace, the block's first bytes would fall before the DLE they answer by more
+    than the resolution. A read is spread back no further than the other seat's last
+    character; what is left to order is within the resolution."""
+    stx = 0.040
+    dle = stx + dle_at * ADT
+    block = codec.body(b"A" * size, "3964R")
+    chunks = [_b(0.001, NAK), _b(stx, STX), _a(dle, DLE), C.Chunk(round(dle + lag, 6), "b", block),
+              _a(dle + lag + 0.0002, DLE)]
+    assert not _fails(chunks)
