@@ -30,7 +30,7 @@ from typing import Any, Callable, Iterable
 
 from ptpcert import capture as C
 from ptpcert import results as R
-from ptpcert.analysis.interface import EPS, QUANTUM, SEATS, Finding, Item, ProcedureAnalyzer
+from ptpcert.analysis.interface import EPS, OTHER, QUANTUM, SEATS, Finding, Item, ProcedureAnalyzer
 from ptpcert.analysis.judge import SeatJudge
 
 
@@ -136,7 +136,7 @@ class LineAnalysis:
                 # a read of several characters is spread back at the line's pace, but not
                 # behind the other seat's last character: with a timing resolution the order
                 # of characters stamped within it of each other is the ordering rule's
-                other = self.items["b" if seat == "a" else "a"]
+                other = self.items[OTHER[seat]]
                 if other and other[-1].t > floor:
                     floor = other[-1].t
             for i, b in enumerate(data):

@@ -99,7 +99,7 @@ def cut(run: "SeatRun", it: Item) -> None:
         # until the interruption is over (a BREAK lasts its duration), four characters more for
         # the station's transmitter to stop (the window the suite's BREAK cases give), and the
         # late tolerance
-        over = it.t + (it.value or 0.0 if it.kind == "break" else 0.0)
+        over = it.t + ((it.value or 0.0) if it.kind == "break" else 0.0)
         run.tail_until = over + 4 * run.char + run.kit.late_abs
 
 
